@@ -1,0 +1,24 @@
+# The ROS-free physics core: every .cpp under src/core, Eigen and yaml-cpp only.
+# Included by the catkin build (CMakeLists.txt) and by the sanitizer build (test/sanitize).
+get_filename_component(TT_ROOT "${CMAKE_CURRENT_LIST_DIR}/.." ABSOLUTE)
+
+find_package(Eigen3 3.3 REQUIRED NO_MODULE)
+find_package(yaml-cpp REQUIRED)
+find_package(Threads REQUIRED)
+
+file(GLOB_RECURSE TT_CORE_FILES CONFIGURE_DEPENDS
+  "${TT_ROOT}/src/core/*.cpp" "${TT_ROOT}/src/core/*.h" "${TT_ROOT}/include/tissue_trainer/core/*.h")
+foreach(f ${TT_CORE_FILES})
+  file(STRINGS "${f}" ros_includes REGEX "#include[ \t]*[<\"](ros|tf2|rosbag|sensor_msgs|geometry_msgs)/")
+  if(ros_includes)
+    message(FATAL_ERROR "${f}: the core must not include ROS headers (${ros_includes})")
+  endif()
+endforeach()
+
+file(GLOB_RECURSE TT_CORE_SOURCES CONFIGURE_DEPENDS "${TT_ROOT}/src/core/*.cpp")
+add_library(tissue_trainer_core ${TT_CORE_SOURCES})
+target_include_directories(tissue_trainer_core PUBLIC "${TT_ROOT}/include")
+target_link_libraries(tissue_trainer_core PUBLIC Eigen3::Eigen yaml-cpp Threads::Threads)
+target_compile_features(tissue_trainer_core PUBLIC cxx_std_17)
+target_compile_options(tissue_trainer_core PRIVATE -Wall -Wextra)
+set_target_properties(tissue_trainer_core PROPERTIES POSITION_INDEPENDENT_CODE ON)

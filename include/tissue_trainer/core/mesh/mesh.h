@@ -1,0 +1,55 @@
+#pragma once
+// The tetrahedral (optionally hexahedral) mesh: rest geometry, elements, boundary surface,
+// per-element fibre frame and material id, and per-node tags.
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace tt {
+
+using Tet = std::array<int, 4>;
+using Hex = std::array<int, 8>;
+using Triangle = std::array<int, 3>;
+
+// Per-node tags (bit flags): fixed per axis as in seed 001 section 2.6, and controlled nodes
+// whose position follows a prescribed path.
+enum NodeTag : std::uint8_t {
+  kFixedX = 1u << 0,
+  kFixedY = 1u << 1,
+  kFixedZ = 1u << 2,
+  kFixedAll = kFixedX | kFixedY | kFixedZ,
+  kControlled = 1u << 3,
+};
+
+struct Mesh {
+  Eigen::Matrix3Xd rest;                // rest positions, one column per node (m)
+  std::vector<Tet> tets;                // positively oriented: det[P1-P0, P2-P0, P3-P0] > 0
+  std::vector<Hex> hexes;               // optional, VTK/Gmsh node order
+  std::vector<Triangle> surface;        // boundary triangles, outward normals (right-hand)
+  std::vector<Eigen::Matrix3d> fibreFrame;  // per tet; column 0 is the fibre direction a0
+  std::vector<int> material;            // per tet material id (index into the scene's table)
+  std::vector<std::uint8_t> nodeTags;   // per node, NodeTag bits
+
+  int numNodes() const { return static_cast<int>(rest.cols()); }
+  int numTets() const { return static_cast<int>(tets.size()); }
+
+  // Gives every tet the identity frame and material 0, every node no tag, when the
+  // corresponding arrays are empty. Readers and generators call it last.
+  void fillDefaults();
+};
+
+// Signed volume det[P1-P0, P2-P0, P3-P0] / 6 of tet t at positions x (3 x n).
+double tetVolume(const Eigen::Matrix3Xd& x, const Tet& t);
+
+// Boundary triangles (faces that belong to exactly one tet), oriented outward.
+std::vector<Triangle> extractSurface(const Mesh& mesh);
+
+// Axis-aligned bounding box of the rest positions.
+struct Box {
+  Eigen::Vector3d min, max;
+};
+Box boundingBox(const Eigen::Matrix3Xd& x);
+
+}  // namespace tt

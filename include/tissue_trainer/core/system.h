@@ -1,0 +1,80 @@
+#pragma once
+// A System is what a scene builds: the mesh, lumped masses, per-DOF damping, the listed force
+// models, the constraints (fixed and controlled DOFs) and the current state. Nothing the
+// scene does not list is constructed, so nothing unlisted is evaluated.
+#include <Eigen/Core>
+#include <memory>
+#include <vector>
+
+#include "tissue_trainer/core/mesh/mesh.h"
+#include "tissue_trainer/core/model/force_model.h"
+#include "tissue_trainer/core/model/material.h"
+#include "tissue_trainer/core/solve/sparse_pattern.h"
+
+namespace tt {
+
+struct State {
+  Eigen::VectorXd x;  // positions, 3n (m)
+  Eigen::VectorXd v;  // velocities, 3n (m/s)
+  double t = 0.0;     // s
+};
+
+// Piecewise-linear displacement from the rest position over time (held after the last key).
+struct PrescribedPath {
+  std::vector<double> times;               // strictly increasing, s
+  std::vector<Eigen::Vector3d> offsets;    // displacement at each time, m
+  Eigen::Vector3d offsetAt(double t) const;
+  Eigen::Vector3d velocityAt(double t) const;
+};
+
+struct ControlledSet {
+  std::vector<int> nodes;
+  PrescribedPath path;
+};
+
+class System {
+ public:
+  System() = default;
+  // Builds the sparsity pattern and lumped masses (seed 001 Eq 2.19: each node gets a quarter
+  // of rho * V0 of every tet it belongs to), state at rest, no models, no damping.
+  System(Mesh mesh, std::vector<Material> materials);
+
+  int numNodes() const { return mesh.numNodes(); }
+  int numDofs() const { return 3 * mesh.numNodes(); }
+
+  // Total force at (x, v): every model, the damping -c .* v and the external force.
+  // Returns the potential energy of the models. Constrained DOFs are left as computed.
+  double computeForce(const Eigen::VectorXd& x, const Eigen::VectorXd& v,
+                      Eigen::VectorXd& f) const;
+  double potentialEnergy(const Eigen::VectorXd& x) const;
+  double kineticEnergy(const Eigen::VectorXd& v) const;
+
+  // True when every model provides an analytic stiffness (implicit integrators need it).
+  bool hasStiffness() const;
+  // K = sum of the models' df/dx at x, with the system pattern (K is resized if empty).
+  void assembleStiffness(const Eigen::VectorXd& x, SparseMatrix& K) const;
+
+  // Writes the prescribed positions and velocities of constrained DOFs at time t.
+  void prescribe(double t, Eigen::VectorXd& x, Eigen::VectorXd& v) const;
+  // Sets the entries of constrained DOFs to zero.
+  void zeroConstrained(Eigen::VectorXd& r) const;
+  // Makes constrained rows and columns of A identity rows/columns (A keeps its pattern).
+  void constrainMatrix(SparseMatrix& A) const;
+
+  // Marks the DOFs of fixed tags and of controlled sets; call after changing either.
+  void updateConstraints();
+
+  Mesh mesh;
+  std::vector<Material> materials;   // indexed by mesh.material
+  Eigen::VectorXd mass;              // lumped, per DOF (kg)
+  Eigen::VectorXd damping;           // per DOF, f_damp = -damping .* v (N s/m)
+  Eigen::VectorXd externalForce;     // per DOF (N), e.g. contact
+  std::vector<std::unique_ptr<ForceModel>> models;
+  std::vector<ControlledSet> controlled;
+  std::vector<int> constrainedDofs;  // sorted DOF indices with prescribed position
+  std::vector<std::uint8_t> isConstrained;  // per DOF
+  SparsePattern pattern;
+  State state;
+};
+
+}  // namespace tt

@@ -1,0 +1,118 @@
+#include "tissue_trainer/core/system.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tt {
+
+Eigen::Vector3d PrescribedPath::offsetAt(double t) const {
+  if (times.empty()) return Eigen::Vector3d::Zero();
+  if (t <= times.front()) return offsets.front();
+  if (t >= times.back()) return offsets.back();
+  const size_t k = std::upper_bound(times.begin(), times.end(), t) - times.begin();
+  const double s = (t - times[k - 1]) / (times[k] - times[k - 1]);
+  return (1.0 - s) * offsets[k - 1] + s * offsets[k];
+}
+
+Eigen::Vector3d PrescribedPath::velocityAt(double t) const {
+  if (times.size() < 2 || t < times.front() || t >= times.back()) return Eigen::Vector3d::Zero();
+  const size_t k = std::upper_bound(times.begin(), times.end(), t) - times.begin();
+  return (offsets[k] - offsets[k - 1]) / (times[k] - times[k - 1]);
+}
+
+System::System(Mesh m, std::vector<Material> mats)
+    : mesh(std::move(m)), materials(std::move(mats)) {
+  const int n = mesh.numNodes();
+  mesh.fillDefaults();
+  pattern = SparsePattern(n, mesh.tets);
+  mass = Eigen::VectorXd::Zero(3 * n);
+  for (int e = 0; e < mesh.numTets(); ++e) {
+    const double quarter = 0.25 * materials.at(mesh.material[e]).density *
+                           std::abs(tetVolume(mesh.rest, mesh.tets[e]));
+    for (int a : mesh.tets[e]) mass.segment<3>(3 * a).array() += quarter;
+  }
+  damping = Eigen::VectorXd::Zero(3 * n);
+  externalForce = Eigen::VectorXd::Zero(3 * n);
+  state.x = Eigen::Map<const Eigen::VectorXd>(mesh.rest.data(), 3 * n);
+  state.v = Eigen::VectorXd::Zero(3 * n);
+  updateConstraints();
+}
+
+double System::computeForce(const Eigen::VectorXd& x, const Eigen::VectorXd& v,
+                            Eigen::VectorXd& f) const {
+  f = externalForce - damping.cwiseProduct(v);
+  double energy = 0.0;
+  for (const auto& model : models) energy += model->addForce(x, v, f);
+  return energy;
+}
+
+double System::potentialEnergy(const Eigen::VectorXd& x) const {
+  double energy = 0.0;
+  for (const auto& model : models) energy += model->energy(x);
+  return energy;
+}
+
+double System::kineticEnergy(const Eigen::VectorXd& v) const {
+  return 0.5 * v.dot(mass.cwiseProduct(v));
+}
+
+bool System::hasStiffness() const {
+  return std::all_of(models.begin(), models.end(),
+                     [](const auto& m) { return m->hasStiffness(); });
+}
+
+void System::assembleStiffness(const Eigen::VectorXd& x, SparseMatrix& K) const {
+  if (K.nonZeros() == 0) K = pattern.zeroMatrix();
+  std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);
+  for (const auto& model : models)
+    if (model->hasStiffness()) model->addStiffness(x, 1.0, pattern, K);
+}
+
+void System::prescribe(double t, Eigen::VectorXd& x, Eigen::VectorXd& v) const {
+  for (int n = 0; n < numNodes(); ++n) {
+    const std::uint8_t tags = mesh.nodeTags[n];
+    for (int axis = 0; axis < 3; ++axis)
+      if (tags & (1u << axis)) {
+        x[3 * n + axis] = mesh.rest(axis, n);
+        v[3 * n + axis] = 0.0;
+      }
+  }
+  for (const ControlledSet& set : controlled) {
+    const Eigen::Vector3d offset = set.path.offsetAt(t);
+    const Eigen::Vector3d velocity = set.path.velocityAt(t);
+    for (int n : set.nodes) {
+      x.segment<3>(3 * n) = mesh.rest.col(n) + offset;
+      v.segment<3>(3 * n) = velocity;
+    }
+  }
+}
+
+void System::zeroConstrained(Eigen::VectorXd& r) const {
+  for (int dof : constrainedDofs) r[dof] = 0.0;
+}
+
+void System::constrainMatrix(SparseMatrix& A) const {
+  for (int row = 0; row < A.outerSize(); ++row)
+    for (SparseMatrix::InnerIterator it(A, row); it; ++it)
+      if (isConstrained[row] || isConstrained[it.col()])
+        it.valueRef() = (row == it.col()) ? 1.0 : 0.0;
+}
+
+void System::updateConstraints() {
+  const int n = numNodes();
+  mesh.nodeTags.resize(n, 0);
+  isConstrained.assign(3 * n, 0);
+  for (int node = 0; node < n; ++node)
+    for (int axis = 0; axis < 3; ++axis)
+      if (mesh.nodeTags[node] & (1u << axis)) isConstrained[3 * node + axis] = 1;
+  for (const ControlledSet& set : controlled)
+    for (int node : set.nodes) {
+      mesh.nodeTags[node] |= kControlled;
+      for (int axis = 0; axis < 3; ++axis) isConstrained[3 * node + axis] = 1;
+    }
+  constrainedDofs.clear();
+  for (int dof = 0; dof < 3 * n; ++dof)
+    if (isConstrained[dof]) constrainedDofs.push_back(dof);
+}
+
+}  // namespace tt
