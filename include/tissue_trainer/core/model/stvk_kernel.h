@@ -55,6 +55,13 @@ inline void scatterAddTet(const Matrix34d& fe, const Tet& t, Eigen::VectorXd& f)
   for (int p = 0; p < 4; ++p) f.segment<3>(3 * t[p]) += fe.col(p);
 }
 
+// F = Ds Dm^-1 from the edge vectors x_p - x_0 (not sum_p x_p g_p^T): far from the origin the
+// differences are exact, so a rigid translation costs no digits.
+inline Eigen::Matrix3d tetDeformationGradient(const Matrix34d& xe, const Matrix34d& grad) {
+  const Eigen::Matrix3d Ds = xe.rightCols<3>().colwise() - xe.col(0);
+  return Ds * grad.rightCols<3>().transpose();
+}
+
 inline Eigen::Matrix3d greenStrain(const Eigen::Matrix3d& F) {
   return 0.5 * (F.transpose() * F - Eigen::Matrix3d::Identity());
 }
@@ -76,7 +83,7 @@ inline Eigen::Matrix3d stvkSecondPiola(const Eigen::Matrix3d& E, const StvkTet& 
 
 // Physical nodal forces of the tet at positions xe (columns) into fe; returns V0 psi.
 inline double stvkTetForces(const Matrix34d& xe, const StvkTet& t, Matrix34d& fe) {
-  const Eigen::Matrix3d F = xe * t.grad.transpose();
+  const Eigen::Matrix3d F = tetDeformationGradient(xe, t.grad);
   const Eigen::Matrix3d E = greenStrain(F);
   const Eigen::Matrix3d S = stvkSecondPiola(E, t);
   fe.noalias() = (-t.volume) * (F * S) * t.grad;
@@ -84,7 +91,7 @@ inline double stvkTetForces(const Matrix34d& xe, const StvkTet& t, Matrix34d& fe
 }
 
 inline double stvkTetEnergy(const Matrix34d& xe, const StvkTet& t) {
-  return t.volume * stvkDensity(greenStrain(xe * t.grad.transpose()), t);
+  return t.volume * stvkDensity(greenStrain(tetDeformationGradient(xe, t.grad)), t);
 }
 
 // Ke = d f / d x (12 x 12, node-major: row 3p+i, column 3q+j). With h_q = F g_q, b = F a0:
@@ -92,7 +99,7 @@ inline double stvkTetEnergy(const Matrix34d& xe, const StvkTet& t) {
 //                   + 2 c (a0.g_p)(a0.g_q) b b^T,
 // and Ke_pq = -V0 times that.
 inline void stvkTetStiffness(const Matrix34d& xe, const StvkTet& t, Matrix12d& Ke) {
-  const Eigen::Matrix3d F = xe * t.grad.transpose();
+  const Eigen::Matrix3d F = tetDeformationGradient(xe, t.grad);
   const Eigen::Matrix3d S = stvkSecondPiola(greenStrain(F), t);
   const Matrix34d H = F * t.grad;
   const Eigen::Matrix4d GSG = t.grad.transpose() * S * t.grad;
