@@ -103,7 +103,8 @@ bool BackwardEulerIntegrator::substep(System& system, double h, double endTime,
   for (int dof : system.constrainedDofs)
     constrainedDv_[dof] = (targetX_[dof] - s.x[dof]) / h - s.v[dof];
 
-  rhs_ = h * (f_ + h * (K_ * s.v)) - A_ * constrainedDv_;
+  rhs_ = h * (f_ + h * (K_ * s.v));
+  if (!system.constrainedDofs.empty()) rhs_ -= A_ * constrainedDv_;
   for (int dof : system.constrainedDofs) rhs_[dof] = constrainedDv_[dof];
   if (!rhs_.allFinite() || !Eigen::Map<const Eigen::VectorXd>(A_.valuePtr(), A_.nonZeros())
                                .allFinite()) {
