@@ -91,6 +91,21 @@ TEST(Embedding, GridSearchAgreesWithBruteForce) {
   EXPECT_NEAR(e.maxOutsideDistance(), maxDistance, 1e-14);
   EXPECT_GT(outside, 100);
   EXPECT_LT(outside, 500);
+  std::printf("jittered grid: %.1f of %d tets tested per point\n", e.meanTetsTested(),
+              m.numTets());
+  EXPECT_LT(e.meanTetsTested(), 0.5 * m.numTets());
+}
+
+TEST(Embedding, SearchCostPerPointDoesNotGrowWithTheMesh) {
+  std::mt19937 rng(13);
+  const Eigen::Matrix3Xd points =
+      randomPoints(rng, 400, Eigen::Vector3d::Constant(-0.02), Eigen::Vector3d::Constant(1.02));
+  const Mesh coarse = boxGrid(6, 6, 6, Eigen::Vector3d::Ones(), TetSplit::kSixMirrored);
+  const Mesh fine = boxGrid(21, 21, 21, Eigen::Vector3d::Ones(), TetSplit::kSixMirrored);
+  const Embedding a(coarse, points), b(fine, points);
+  std::printf("tets tested per point: %.1f of %d (coarse), %.1f of %d (fine)\n",
+              a.meanTetsTested(), coarse.numTets(), b.meanTetsTested(), fine.numTets());
+  EXPECT_LT(b.meanTetsTested(), 2.0 * a.meanTetsTested());  // with 64 times the tets
 }
 
 // Any fixed weights summing to one make the embedded points follow an affine map exactly.
@@ -212,8 +227,11 @@ TEST(Embedding, SmoothLiverSurfaceInCoarseLiverMesh) {
 
   const Embedding e(m, vertices);
   std::printf("liver-smooth.obj in liver.msh: %d of %d vertices outside, max distance %.4g "
-              "(mesh bounding-box diagonal %.4g, file units)\n",
-              e.numOutside(), e.numPoints(), e.maxOutsideDistance(), diagonal);
+              "(mesh bounding-box diagonal %.4g, file units); %.1f of %d tets tested per "
+              "vertex\n",
+              e.numOutside(), e.numPoints(), e.maxOutsideDistance(), diagonal,
+              e.meanTetsTested(), m.numTets());
+  EXPECT_LT(e.meanTetsTested(), 0.2 * m.numTets());
   EXPECT_LT(e.numOutside(), e.numPoints());
   EXPECT_LT(e.maxOutsideDistance(), 0.02 * diagonal);
   std::mt19937 rng(1);

@@ -55,13 +55,12 @@ class TetGrid {
     origin_ = box.min;
     const Eigen::Vector3d extent = box.max - box.min;
     const double volume = std::max(extent.prod(), std::pow(extent.maxCoeff(), 3) * 1e-6);
-    const double target = std::cbrt(volume / std::max(1, mesh.numTets()));
-    minCell_ = std::numeric_limits<double>::infinity();
+    // About eight cells per tet: fewer candidates per query for a modest bucket memory.
+    const double target = 0.5 * std::cbrt(volume / std::max(1, mesh.numTets()));
     for (int a = 0; a < 3; ++a) {
       dims_[a] = target > 0.0 ? std::clamp(static_cast<int>(std::ceil(extent[a] / target)), 1, 512)
                               : 1;
       cell_[a] = extent[a] / dims_[a];
-      if (cell_[a] > 0.0) minCell_ = std::min(minCell_, cell_[a]);
     }
     start_.assign(static_cast<size_t>(dims_[0]) * dims_[1] * dims_[2] + 1, 0);
     forEachTetCell(mesh, [&](int, int cell) { ++start_[cell + 1]; });
@@ -83,9 +82,18 @@ class TetGrid {
   const int* begin(int cell) const { return tets_.data() + start_[cell]; }
   const int* end(int cell) const { return tets_.data() + start_[cell + 1]; }
   int dim(int a) const { return dims_[a]; }
-  // Every point outside the cells within Chebyshev distance k of a point's cell is at least
-  // k * minCell() away from that point.
-  double minCell() const { return minCell_; }
+  // A lower bound on the distance from p (in cell c) to every cell farther than k from c in
+  // Chebyshev distance: the distance to the nearest side of the block of cells within k that
+  // has cells beyond it.
+  double reachAfterShell(const Eigen::Vector3d& p, const std::array<int, 3>& c, int k) const {
+    double reach = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 3; ++a) {
+      if (c[a] - k > 0) reach = std::min(reach, p[a] - (origin_[a] + (c[a] - k) * cell_[a]));
+      if (c[a] + k < dims_[a] - 1)
+        reach = std::min(reach, origin_[a] + (c[a] + k + 1) * cell_[a] - p[a]);
+    }
+    return std::max(reach, 0.0);
+  }
 
  private:
   template <class F>
@@ -106,14 +114,16 @@ class TetGrid {
   Eigen::Vector3d origin_;
   double cell_[3];
   int dims_[3];
-  double minCell_;
   std::vector<int> start_, tets_;
 };
+
+double sq(double x) { return x * x; }
 
 struct Placement {
   int tet = -1;
   Eigen::Vector4d weights = Eigen::Vector4d::Zero();
   double distance = 0.0;  // 0 when inside
+  long tetsTested = 0;
 };
 
 Eigen::Vector4d barycentricOf(const Mesh& mesh, int t, const Eigen::Vector3d& p) {
@@ -128,6 +138,7 @@ Placement findContaining(const Mesh& mesh, const TetGrid& grid, const Eigen::Vec
   double deepest = -std::numeric_limits<double>::infinity();
   const std::array<int, 3> c = grid.cellOf(p);
   const int cell = grid.linear(c[0], c[1], c[2]);
+  best.tetsTested = grid.end(cell) - grid.begin(cell);
   for (const int* t = grid.begin(cell); t != grid.end(cell); ++t) {
     const Eigen::Vector4d w = barycentricOf(mesh, *t, p);
     if (w.minCoeff() > deepest) {
@@ -158,6 +169,7 @@ Placement findNearest(const Mesh& mesh, const TetGrid& grid, const Eigen::Vector
           for (const int* t = grid.begin(cell); t != grid.end(cell); ++t) {
             if (visitedBy[*t] == query) continue;
             visitedBy[*t] = query;
+            ++best.tetsTested;
             const Tet& n = mesh.tets[*t];
             Eigen::Vector4d w;
             const double d2 = closestPointInTet(mesh.rest.col(n[0]), mesh.rest.col(n[1]),
@@ -169,8 +181,7 @@ Placement findNearest(const Mesh& mesh, const TetGrid& grid, const Eigen::Vector
             }
           }
         }
-    const double reach = k * grid.minCell();
-    if (best.tet >= 0 && bestSquared <= reach * reach) break;
+    if (best.tet >= 0 && bestSquared <= sq(grid.reachAfterShell(p, c, k))) break;
   }
   best.distance = std::sqrt(bestSquared);
   return best;
@@ -221,8 +232,10 @@ Embedding::Embedding(const Mesh& mesh, const Eigen::Matrix3Xd& points, OutsidePo
   for (int i = 0; i < count; ++i) {
     const Eigen::Vector3d p = points.col(i);
     Placement place = findContaining(mesh, grid, p);
+    tetsTested_ += place.tetsTested;
     if (place.tet < 0) {
       place = findNearest(mesh, grid, p, visitedBy, i);
+      tetsTested_ += place.tetsTested;
       ++numOutside_;
       maxOutsideDistance_ = std::max(maxOutsideDistance_, place.distance);
       if (policy == OutsidePolicy::kExtrapolate) place.weights = barycentricOf(mesh, place.tet, p);

@@ -37,6 +37,11 @@ class Embedding {
   // a point to its tet.
   int numOutside() const { return numOutside_; }
   double maxOutsideDistance() const { return maxOutsideDistance_; }
+  // Barycentric or distance evaluations made by the search, per point (a brute-force search
+  // would make numTets per point).
+  double meanTetsTested() const {
+    return numPoints() ? static_cast<double>(tetsTested_) / numPoints() : 0.0;
+  }
 
  private:
   std::vector<Tet> nodes_;  // the four nodes of each point's tet
@@ -44,6 +49,7 @@ class Embedding {
   std::vector<Eigen::Vector4d> weights_;
   int numOutside_ = 0;
   double maxOutsideDistance_ = 0.0;
+  long tetsTested_ = 0;
 };
 
 // Barycentric coordinates of p in tet (a, b, c, d), and the closest point of the solid tet to
