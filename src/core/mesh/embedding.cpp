@@ -74,7 +74,8 @@ class TetGrid {
     std::array<int, 3> c;
     for (int a = 0; a < 3; ++a) {
       // Clamped as a double first: a far point must not overflow the int conversion.
-      const double i = cell_[a] > 0.0 ? std::floor((p[a] - origin_[a]) / cell_[a]) : 0.0;
+      double i = cell_[a] > 0.0 ? std::floor((p[a] - origin_[a]) / cell_[a]) : 0.0;
+      if (std::isnan(i)) i = 0.0;
       c[a] = static_cast<int>(std::clamp(i, 0.0, dims_[a] - 1.0));
     }
     return c;
