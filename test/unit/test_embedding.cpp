@@ -153,7 +153,8 @@ TEST(Embedding, WorksOnTheSpindle) {
   const Embedding e(m, points, OutsidePolicy::kExtrapolate);
   for (int i = 0; i < e.numPoints(); ++i) {
     double nearest = std::numeric_limits<double>::infinity();
-    for (int t = 0; t < m.numTets(); ++t) nearest = std::min(nearest, distanceToTet(m, t, points.col(i)));
+    for (int t = 0; t < m.numTets(); ++t)
+      nearest = std::min(nearest, distanceToTet(m, t, points.col(i)));
     ASSERT_NEAR(distanceToTet(m, e.tetOf(i), points.col(i)), nearest, 1e-15);
   }
   expectAffine(m, e, rng, 1e-12);

@@ -50,7 +50,7 @@ Eigen::Vector3d closestPointInTriangle(const Eigen::Vector3d& a, const Eigen::Ve
 // bounding box overlaps it (compressed row storage).
 class TetGrid {
  public:
-  TetGrid(const Mesh& mesh) {
+  explicit TetGrid(const Mesh& mesh) {
     const Box box = boundingBox(mesh.rest);
     origin_ = box.min;
     const Eigen::Vector3d extent = box.max - box.min;
@@ -72,10 +72,12 @@ class TetGrid {
 
   std::array<int, 3> cellOf(const Eigen::Vector3d& p) const {
     std::array<int, 3> c;
-    for (int a = 0; a < 3; ++a)
-      c[a] = cell_[a] > 0.0 ? std::clamp(static_cast<int>(std::floor((p[a] - origin_[a]) / cell_[a])),
-                                         0, dims_[a] - 1)
-                            : 0;
+    for (int a = 0; a < 3; ++a) {
+      // Clamped as a double first: a far point must not overflow the int conversion.
+      double i = cell_[a] > 0.0 ? std::floor((p[a] - origin_[a]) / cell_[a]) : 0.0;
+      if (std::isnan(i)) i = 0.0;
+      c[a] = static_cast<int>(std::clamp(i, 0.0, dims_[a] - 1.0));
+    }
     return c;
   }
   int linear(int i, int j, int k) const { return i + dims_[0] * (j + dims_[1] * k); }
