@@ -26,7 +26,7 @@ force_models:
   - type: edge_length
 integrator:
   type: backward_euler
-  time_step: 0.01
+  substeps: 1
 boundary:
   fixed:
     - plane: {point: [0, 0, 0], normal: [0, 0, 1]}
@@ -80,7 +80,7 @@ TEST(MalformedScene, EachErrorNamesFileLineAndKey) {
       {"empty node set", edited("point: [0, 0, 0]", "point: [0, 0, -1]"), 19, "matches no node"},
       {"unknown model", edited("type: edge_length", "type: edge_lenght"), 12, "force_models[0].type"},
       {"unknown integrator", edited("type: backward_euler", "type: rk4"), 14, "integrator.type"},
-      {"negative time step", edited("time_step: 0.01", "time_step: -0.01"), 15, "positive"},
+      {"zero substeps", edited("substeps: 1", "substeps: 0"), 15, "integer >= 1"},
       {"missing force models", edited("force_models:\n  - type: edge_length\n", ""), 0, "missing required key 'force_models'"},
       {"bad axes", edited("normal: [0, 0, 1]}", "normal: [0, 0, 1]}\n      axes: xq"), 20, "combination of x, y and z"},
       {"gravity not a vector", edited("[0, 0, -9.81]", "down"), 22, "list of 3 numbers"},

@@ -226,7 +226,7 @@ void applyBoundary(const YamlEntry& spec, System& system) {
     for (size_t k = 0; k < list.size(); ++k) {
       const YamlEntry item = list[k];
       item.expectMap({"box", "plane", "nodes", "axes"});
-      const std::uint8_t axes = item.has("axes") ? parseAxes(item["axes"]) : kFixedAll;
+      const std::uint8_t axes = item.has("axes") ? parseAxes(item["axes"]) : std::uint8_t{kFixedAll};
       for (int n : selectNodes(item, system.mesh)) system.mesh.nodeTags[n] |= axes;
     }
   }
@@ -257,7 +257,7 @@ void applyBoundary(const YamlEntry& spec, System& system) {
 void applyLoads(const YamlEntry& spec, System& system) {
   spec.expectMap({"gravity", "rayleigh_mass", "node_damping"});
   if (spec.has("gravity"))
-    system.models.push_back(std::make_unique<Gravity>(system.mass, spec["gravity"].vector3()));
+    system.models.push_back(std::make_unique<GravityModel>(system.mass, spec["gravity"].vector3()));
   if (spec.has("rayleigh_mass")) {
     const YamlEntry e = spec["rayleigh_mass"];
     const double alpha = e.number();

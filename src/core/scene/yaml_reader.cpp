@@ -49,8 +49,8 @@ YamlEntry YamlEntry::operator[](const char* key) const {
   return YamlEntry(value, child, file_);
 }
 
-YamlEntry YamlEntry::operator[](size_t index) const {
-  return YamlEntry(node_[index], path_ + "[" + std::to_string(index) + "]", file_);
+YamlEntry YamlEntry::operator[](int index) const {
+  return YamlEntry(node_[static_cast<size_t>(index)], path_ + "[" + std::to_string(index) + "]", file_);
 }
 
 size_t YamlEntry::size() const {

@@ -28,7 +28,7 @@ class YamlEntry {
   void expectMap(std::initializer_list<const char*> allowed) const;
   bool has(const char* key) const { return node_.IsMap() && node_[key]; }
   YamlEntry operator[](const char* key) const;  // fails if the key is absent
-  YamlEntry operator[](size_t index) const;
+  YamlEntry operator[](int index) const;
   size_t size() const;                          // of a sequence (fails otherwise)
 
   double number() const;
