@@ -302,6 +302,74 @@ TEST(ExplicitEuler, FirstOrderForwardAndSymplectic) {
               0.2);
 }
 
+TEST(Newtonian, ReportedVelocityIsSecondOrder) {
+  const Oscillators o = harmonic(1.5);
+  std::vector<double> hs, errs;
+  for (int n : {50, 100, 200, 400, 800}) {
+    System s = o.build();
+    NewtonianIntegrator integrator(NewtonianParams{1.0 / n});
+    ASSERT_TRUE(integrator.advance(s, 1.0).ok);
+    // Exact velocity by a central difference of the closed form (error ~1e-12).
+    double e = 0.0;
+    for (int dof = 0; dof < 12; ++dof) {
+      const double d = 1e-5;
+      const double exactV = (o.exact(dof, 1.0 + d) - o.exact(dof, 1.0 - d)) / (2 * d);
+      e = std::max(e, std::abs(s.state.v[dof] - exactV));
+    }
+    hs.push_back(1.0 / n);
+    errs.push_back(e);
+  }
+  const double slope = fittedSlope(hs, errs);
+  std::printf("[ order    ] newtonian velocity, damped         errors %.3e .. %.3e, slope %.3f\n",
+              errs.front(), errs.back(), slope);
+  EXPECT_NEAR(slope, 2.0, 0.2);
+}
+
+// Reference for the Duffing oscillators m u'' + c u' + k u + q u^3 = 0: classical RK4 with a
+// step far below the ones measured.
+Eigen::VectorXd duffingReference(const Oscillators& o, double T, int steps) {
+  Eigen::VectorXd u = o.u0, v = o.v0;
+  const double h = T / steps;
+  auto accel = [&](const Eigen::ArrayXd& x, const Eigen::ArrayXd& y) -> Eigen::ArrayXd {
+    return -(o.c * y + o.k.array() * x + o.q.array() * x.cube()) / o.m;
+  };
+  for (int i = 0; i < steps; ++i) {
+    const Eigen::ArrayXd x = u.array(), y = v.array();
+    const Eigen::ArrayXd k1x = y, k1v = accel(x, y);
+    const Eigen::ArrayXd k2x = y + 0.5 * h * k1v, k2v = accel(x + 0.5 * h * k1x, k2x);
+    const Eigen::ArrayXd k3x = y + 0.5 * h * k2v, k3v = accel(x + 0.5 * h * k2x, k3x);
+    const Eigen::ArrayXd k4x = y + h * k3v, k4v = accel(x + h * k3x, k4x);
+    u = (x + h / 6 * (k1x + 2 * k2x + 2 * k3x + k4x)).matrix();
+    v = (y + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)).matrix();
+  }
+  return u;
+}
+
+TEST(Integrators, OrdersOnANonlinearDampedOscillator) {
+  Oscillators o = harmonic(0.8);
+  o.k = Eigen::VectorXd::Constant(12, 30.0);
+  o.q = Eigen::VectorXd::LinSpaced(12, 500.0, 3000.0);
+  o.u0 = Eigen::VectorXd::LinSpaced(12, -0.2, 0.25);
+  const Eigen::VectorXd reference = duffingReference(o, 1.0, 200000);
+  // Backward Euler's numerical damping needs h omega << 1 before its error is asymptotic.
+  auto order = [&](const Factory& make, const char* label, int firstN) {
+    std::vector<double> hs, errs;
+    for (int n = firstN; n <= 16 * firstN; n *= 2) {
+      System s = o.build();
+      EXPECT_TRUE(make(1.0 / n)->advance(s, 1.0).ok);
+      hs.push_back(1.0 / n);
+      errs.push_back((s.state.x - restVector(s) - reference).lpNorm<Eigen::Infinity>());
+    }
+    const double slope = fittedSlope(hs, errs);
+    std::printf("[ order    ] %-34s errors %.3e .. %.3e, slope %.3f\n", label, errs.front(),
+                errs.back(), slope);
+    return slope;
+  };
+  EXPECT_NEAR(order(newtonian(), "newtonian, Duffing", 100), 2.0, 0.2);
+  EXPECT_NEAR(order(backwardEuler(1), "backward_euler, Duffing", 1000), 1.0, 0.2);
+  EXPECT_NEAR(order(backwardEuler(10), "backward_euler full Newton, Duffing", 1000), 1.0, 0.2);
+}
+
 // Smoothly varying steps h_i ~ (1 + 0.5 sin(2 pi i / N)), one step per frame, so eta != 1.
 double variableStepError(const Oscillators& o, int n, bool equalSteps) {
   System s = o.build();

@@ -33,11 +33,12 @@ void NewtonianIntegrator::substep(System& system, double h, double endTime) {
   const double eta = params.assumeEqualSteps ? 1.0 : h / previousStep_;
   const auto m = system.mass.array();
   const auto gamma = system.damping.array();
-  const Eigen::ArrayXd lhs = (2.0 * m / h1 + gamma) / (eta * (eta + 1.0) * h1);
-  const Eigen::ArrayXd current = (2.0 * m / h1 - gamma * (eta - 1.0)) / (eta * h1);
-  const Eigen::ArrayXd previous = (2.0 * m / h1 - gamma * eta) / ((eta + 1.0) * h1);
-  nextX_ = ((force_.array() + current * s.x.array() - previous * previousX_.array()) / lhs)
-               .matrix();
+  // Lazy coefficient expressions (no temporaries): Eq 11 solved for x+, per DOF.
+  const auto lhs = (2.0 * m / h1 + gamma) / (eta * (eta + 1.0) * h1);
+  const auto current = (2.0 * m / h1 - gamma * (eta - 1.0)) / (eta * h1);
+  const auto previous = (2.0 * m / h1 - gamma * eta) / ((eta + 1.0) * h1);
+  nextX_.resize(s.x.size());
+  nextX_.array() = (force_.array() + current * s.x.array() - previous * previousX_.array()) / lhs;
 
   // Second-order backward difference through x-, x, x+ with the actual steps.
   const double a = previousStep_, b = h;
