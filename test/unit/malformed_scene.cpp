@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "tissue_trainer/core/error.h"
 #include "tissue_trainer/core/scene/scene.h"
 
 namespace tt {
@@ -68,22 +69,22 @@ TEST(MalformedScene, GoodSceneLoads) {
 
 TEST(MalformedScene, EachErrorNamesFileLineAndKey) {
   const std::vector<BadScene> cases = {
-      {"unknown top-level key", edited("run:", "rn:"), 24, "unknown key 'rn'"},
+      {"unknown top-level key", edited("run:", "rn:"), 21, "unknown key 'rn'"},
       {"typo in a nested key", edited("poisson_ratio", "poison_ratio"), 9, "materials[0].poison_ratio"},
       {"non-numeric modulus", edited("young_modulus: 3", "young_modulus: three"), 7, "expected a finite number"},
       {"negative modulus", edited("young_modulus: 3", "young_modulus: -3"), 7, "expected a positive number"},
       {"Poisson ratio 0.5", edited("poisson_ratio: 0.4", "poisson_ratio: 0.5"), 9, "(-1, 0.5)"},
       {"Poisson ratio -1", edited("poisson_ratio: 0.4", "poisson_ratio: -1"), 9, "(-1, 0.5)"},
-      {"missing mesh file", edited("generator: box", "file: no_such.msh"), 3, "not found"},
+      {"missing mesh file", edited("generator: box\n  nodes: [3, 3, 3]\n  size: [0.02, 0.02, 0.02]", "file: no_such.msh"), 3, "not found"},
       {"unknown generator", edited("generator: box", "generator: sphere"), 3, "box, cantilever, spindle"},
       {"two node counts", edited("[3, 3, 3]", "[3, 3]"), 4, "3 node counts"},
-      {"empty node set", edited("point: [0, 0, 0]", "point: [0, 0, -1]"), 19, "matches no node"},
+      {"empty node set", edited("point: [0, 0, 0]", "point: [0, 0, -1]"), 18, "matches no node"},
       {"unknown model", edited("type: edge_length", "type: edge_lenght"), 12, "force_models[0].type"},
       {"unknown integrator", edited("type: backward_euler", "type: rk4"), 14, "integrator.type"},
       {"zero substeps", edited("substeps: 1", "substeps: 0"), 15, "integer >= 1"},
       {"missing force models", edited("force_models:\n  - type: edge_length\n", ""), 0, "missing required key 'force_models'"},
-      {"bad axes", edited("normal: [0, 0, 1]}", "normal: [0, 0, 1]}\n      axes: xq"), 20, "combination of x, y and z"},
-      {"gravity not a vector", edited("[0, 0, -9.81]", "down"), 22, "list of 3 numbers"},
+      {"bad axes", edited("normal: [0, 0, 1]}", "normal: [0, 0, 1]}\n      axes: xq"), 19, "combination of x, y and z"},
+      {"gravity not a vector", edited("[0, 0, -9.81]", "down"), 20, "list of 3 numbers"},
       {"infinite number", edited("density: 1000", "density: .inf"), 10, "finite number"},
       {"invalid YAML", edited("name: block", "name: [block"), 0, "not valid YAML"},
       {"empty file", "", 0, "expected a map"},

@@ -1,7 +1,7 @@
 #include "tissue_trainer/core/scene/yaml_reader.h"
 
 #include <cmath>
-#include <sstream>
+#include <cstdlib>
 
 namespace tt {
 namespace {
@@ -60,11 +60,10 @@ size_t YamlEntry::size() const {
 
 double YamlEntry::number() const {
   if (!node_.IsScalar()) fail("expected a number, got " + describe(node_));
-  std::istringstream in(node_.Scalar());
-  double value;
-  in >> value;
-  in >> std::ws;
-  if (in.fail() || !in.eof() || !std::isfinite(value))
+  const std::string& text = node_.Scalar();
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(value))
     fail("expected a finite number, got " + describe(node_));
   return value;
 }
