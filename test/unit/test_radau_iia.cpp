@@ -246,6 +246,26 @@ TEST(RadauIIA, AdaptiveErrorTracksTheTolerance) {
   EXPECT_NEAR(rate, 1.0, 0.3);
 }
 
+TEST(RadauIIA, SplittingIntoFramesKeepsTheAccuracy) {
+  // Ten frames carry the step size and the stage polynomial across frame boundaries.
+  auto system = springSystem(1, 2.0, 2.0, 0.0, 0.0);
+  const Eigen::Vector3d d0(0.3, -0.2, 0.1);
+  system->state.x += d0;
+  RadauOptions options;
+  options.absTol = options.relTol = 1e-8;
+  RadauIIA radau(options);
+  int steps = 0;
+  for (int frame = 0; frame < 10; ++frame) {
+    const StepReport r = radau.advance(*system, 1.0);
+    ASSERT_TRUE(r.ok);
+    steps += r.substeps;
+  }
+  std::cout << "  10 frames of 1 s: " << steps << " steps\n";
+  EXPECT_NEAR(system->state.t, 10.0, 1e-12);
+  EXPECT_LT((system->state.x - d0 * std::cos(10.0)).cwiseAbs().maxCoeff(), 1e-7);
+  EXPECT_LT(steps, 120);  // one frame of 10 s needs ~75 at this tolerance
+}
+
 // ---- Jacobian modes ----------------------------------------------------------------------
 
 struct ModeRun {
@@ -406,6 +426,29 @@ TEST(RadauIIA, NonFiniteForceFailsAndRestoresTheFrameStart) {
   system->state = start;
   EXPECT_TRUE(radau.advance(*system, 0.3).ok);
   EXPECT_NEAR(system->state.x[0], 0.045, 1e-9);
+}
+
+TEST(RadauIIA, RefusesMasslessFreeDofsAndAnalyticalModeWithoutStiffness) {
+  auto system = springSystem(2, 1.0, 1.0, 0.0, 0.0);
+  system->mass[4] = 0.0;
+  RadauIIA radau;
+  EXPECT_FALSE(radau.advance(*system, 0.01).ok);
+  system->mesh.nodeTags[1] = kFixedY;  // the massless DOF is now prescribed
+  system->updateConstraints();
+  EXPECT_TRUE(radau.advance(*system, 0.01).ok);
+
+  class NoStiffness : public TestSprings {
+   public:
+    using TestSprings::TestSprings;
+    bool hasStiffness() const override { return false; }
+  };
+  system->models.clear();
+  system->models.push_back(std::make_unique<NoStiffness>(system->mesh.rest, 1.0,
+                                                         std::vector<std::array<int, 2>>{}, 0, 0));
+  EXPECT_FALSE(radau.advance(*system, 0.01).ok);
+  RadauOptions numerical;
+  numerical.jacobian = RadauJacobian::kNumerical;
+  EXPECT_TRUE(RadauIIA(numerical).advance(*system, 0.01).ok);
 }
 
 }  // namespace

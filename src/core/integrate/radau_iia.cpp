@@ -21,6 +21,13 @@ constexpr double kRoundoff = std::numeric_limits<double>::epsilon();
 // A Newton contraction below this lets the next step keep the Jacobian.
 constexpr double kThetaReuse = 1e-3;
 
+struct NewtonOutcome {
+  bool converged = false;
+  double stepFactor = 0.5;  // on failure: next h = stepFactor * h
+  double theta = kThetaReuse;
+  int iterations = 0;
+};
+
 RadauTableau buildTableau() {
   RadauTableau r;
   const double s6 = std::sqrt(6.0);
@@ -86,7 +93,7 @@ struct RadauIIA::Workspace {
   const RadauTableau& tab = RadauTableau::get();
   const System* system = nullptr;
   int n = 0;        // DOFs (positions), the state has 2n entries
-  long nnz = -1;    // pattern size the matrices were built for
+  long nnz = 0;     // entries of the system pattern
   bool simplified = false;
 
   // Per-frame data.
@@ -146,6 +153,12 @@ struct RadauIIA::Workspace {
                     const Eigen::Ref<const Eigen::VectorXd>& r3,
                     Eigen::Ref<Eigen::VectorXd> out2, Eigen::Ref<Eigen::VectorXd> out3);
   void prescribeStages(double t, double h);
+  void startingValues(double t, double h);
+  void applyPrescribed();
+  NewtonOutcome newton(double t, double h, int maxIterations, StepReport& report,
+                       RadauStatistics& stats);
+  double estimateError(double t, double h, bool refine, StepReport& report,
+                       RadauStatistics& stats);
   void zeroConstrainedRows(Eigen::Ref<Eigen::MatrixXd> m) const;
   double weightedNorm(const Eigen::Ref<const Eigen::MatrixXd>& m,
                       const Eigen::VectorXd& ya, const Eigen::VectorXd& yb) const;
@@ -410,29 +423,113 @@ double RadauIIA::Workspace::weightedNorm(const Eigen::Ref<const Eigen::MatrixXd>
   return std::sqrt(sum / (freeComponents * mat.cols()));
 }
 
+void RadauIIA::Workspace::applyPrescribed() {
+  const int m = static_cast<int>(constrained.size());
+  for (int k = 0; k < m; ++k) {
+    Z.row(constrained[k]) = prescribedZ.row(k);
+    Z.row(n + constrained[k]) = prescribedZ.row(m + k);
+  }
+}
+
+// Starting values from the collocation polynomial of the last accepted step (D.19).
+void RadauIIA::Workspace::startingValues(double t, double h) {
+  prescribeStages(t, h);
+  if (hasHistory) Z.noalias() = lastZ * tab.extrapolation(h / lastStep).transpose();
+  else Z.setZero();
+  applyPrescribed();
+}
+
+// Simplified Newton iterations on the transformed stage equations (D.16), with the
+// convergence test and divergence prediction of Hairer & Wanner IV.8.
+NewtonOutcome RadauIIA::Workspace::newton(double t, double h, int maxIterations,
+                                          StepReport& report, RadauStatistics& stats) {
+  NewtonOutcome out;
+  faccon = std::pow(std::max(faccon, kRoundoff), 0.8);
+  double previousNorm = 0.0, previousRatio = 0.0;
+  for (int k = 0; k < maxIterations; ++k) {
+    for (int i = 0; i < 3; ++i) {
+      stage = y0 + Z.col(i);
+      if (!derivative(t + tab.c[i] * h, stage, F.col(i), stats)) return out;
+    }
+    G.noalias() = F - (1.0 / h) * Z * tab.Ainv.transpose();
+    zeroConstrainedRows(G);
+    R.noalias() = G * tab.Tinv.transpose();
+    solveReal(h, R.col(0), dW.col(0));
+    solveComplex(h, R.col(1), R.col(2), dW.col(1), dW.col(2));
+    report.linearIterations += 2;
+    stats.linearSolves += 2;
+    dZ.noalias() = dW * tab.T.transpose();
+    ++out.iterations;
+    const double norm = weightedNorm(dZ, y0, y0);
+    if (!std::isfinite(norm)) return out;
+    if (k >= 1) {
+      const double ratio = norm / previousNorm;
+      out.theta = k == 1 ? ratio : std::sqrt(ratio * previousRatio);
+      previousRatio = ratio;
+      if (out.theta >= 0.99) return out;
+      faccon = out.theta / (1.0 - out.theta);
+      // Would the remaining iterations reach the tolerance at this contraction rate?
+      const int left = maxIterations - 1 - k;
+      const double predicted = faccon * norm * std::pow(out.theta, left) / newtonTol;
+      if (predicted >= 1.0) {
+        out.stepFactor = 0.8 * std::pow(std::clamp(predicted, 1e-4, 20.0), -1.0 / (4.0 + left));
+        return out;
+      }
+    }
+    previousNorm = norm;
+    Z += dZ;
+    applyPrescribed();
+    if (faccon * norm <= newtonTol) {
+      out.converged = true;
+      return out;
+    }
+  }
+  return out;
+}
+
+// Embedded error estimate (D.21-D.22) filtered through (gamma/h I - J)^-1; weighted RMS norm.
+double RadauIIA::Workspace::estimateError(double t, double h, bool refine, StepReport& report,
+                                          RadauStatistics& stats) {
+  const Eigen::Vector3d weights = (tab.gamma / h) * tab.errorWeights;
+  y1 = y0 + Z.col(2);
+  scratch = F0 + Z * weights;
+  zeroConstrainedRows(scratch);
+  err.resize(2 * n);
+  solveReal(h, scratch, err);
+  ++report.linearIterations;
+  ++stats.linearSolves;
+  double error = weightedNorm(err, y0, y1);
+  if (error >= 1.0 && refine) {
+    // Near a stiff transient the first estimate is too pessimistic; one more filtering
+    // pass with F evaluated at y0 + err keeps the estimate bounded for large h |J|.
+    stage = y0 + err;
+    if (derivative(t, stage, F.col(0), stats)) {
+      scratch = F.col(0) + Z * weights;
+      zeroConstrainedRows(scratch);
+      solveReal(h, scratch, err);
+      ++report.linearIterations;
+      ++stats.linearSolves;
+      error = weightedNorm(err, y0, y1);
+    }
+  }
+  return std::isfinite(error) ? error : 1e10;
+}
+
 RadauIIA::RadauIIA(RadauOptions options)
     : options_(options), work_(std::make_unique<Workspace>()) {}
 
 RadauIIA::~RadauIIA() = default;
 
-void RadauIIA::reset() { work_->hasHistory = false; work_->nextStep = 0.0; }
-
-namespace {
-
-struct NewtonOutcome {
-  bool converged = false;
-  double stepFactor = 0.5;  // on failure: next h = stepFactor * h
-  double theta = kThetaReuse;
-  int iterations = 0;
-};
-
-}  // namespace
+void RadauIIA::reset() {
+  work_->hasHistory = false;
+  work_->nextStep = 0.0;
+  work_->system = nullptr;  // rebuild the matrices on the next frame
+}
 
 StepReport RadauIIA::advance(System& system, double frameTime) {
   const auto clockStart = std::chrono::steady_clock::now();
   StepReport report;
   Workspace& w = *work_;
-  const RadauTableau& tab = w.tab;
   const RadauOptions& opt = options_;
   auto finish = [&]() {
     report.wallSeconds =
@@ -442,10 +539,8 @@ StepReport RadauIIA::advance(System& system, double frameTime) {
   if (!(frameTime > 0.0)) return finish();
 
   const bool simplified = opt.jacobian == RadauJacobian::kSimplified;
-  const long nnz = simplified ? 0 : system.pattern.zeroMatrix().nonZeros();
-  if (w.system != &system || w.n != system.numDofs() || w.nnz != nnz ||
-      w.simplified != simplified || (opt.jacobian == RadauJacobian::kNumerical &&
-                                     w.colourGroups.empty()))
+  if (w.system != &system || w.n != system.numDofs() || w.simplified != simplified ||
+      (opt.jacobian == RadauJacobian::kNumerical && w.colourGroups.empty()))
     w.setup(system, opt.jacobian);
   w.prepareFrame(system, opt);
   const int n = w.n;
@@ -519,103 +614,20 @@ StepReport RadauIIA::advance(System& system, double frameTime) {
       if (!simplified) ++statistics_.factorizations;
     }
 
-    // Starting values from the collocation polynomial of the last accepted step.
-    w.prescribeStages(t, h);
-    if (w.hasHistory) w.Z.noalias() = w.lastZ * tab.extrapolation(h / w.lastStep).transpose();
-    else w.Z.setZero();
-    const int m = static_cast<int>(w.constrained.size());
-    auto applyPrescribed = [&]() {
-      for (int k = 0; k < m; ++k) {
-        w.Z.row(w.constrained[k]) = w.prescribedZ.row(k);
-        w.Z.row(n + w.constrained[k]) = w.prescribedZ.row(m + k);
-      }
-    };
-    applyPrescribed();
-
-    // Simplified Newton iterations on the transformed system (D.16).
-    NewtonOutcome newton;
-    w.faccon = std::pow(std::max(w.faccon, kRoundoff), 0.8);
-    double previousNorm = 0.0, previousRatio = 0.0;
-    bool finite = true;
-    for (int k = 0;; ++k) {
-      if (k >= opt.maxNewtonIterations) break;
-      for (int i = 0; i < 3 && finite; ++i) {
-        w.stage = w.y0 + w.Z.col(i);
-        finite = w.derivative(t + tab.c[i] * h, w.stage, w.F.col(i), statistics_);
-      }
-      if (!finite) break;
-      w.G.noalias() = w.F - (1.0 / h) * w.Z * tab.Ainv.transpose();
-      w.zeroConstrainedRows(w.G);
-      w.R.noalias() = w.G * tab.Tinv.transpose();
-      w.solveReal(h, w.R.col(0), w.dW.col(0));
-      w.solveComplex(h, w.R.col(1), w.R.col(2), w.dW.col(1), w.dW.col(2));
-      report.linearIterations += 2;
-      statistics_.linearSolves += 2;
-      w.dZ.noalias() = w.dW * tab.T.transpose();
-      ++newton.iterations;
-      const double norm = w.weightedNorm(w.dZ, w.y0, w.y0);
-      if (!std::isfinite(norm)) {
-        finite = false;
-        break;
-      }
-      if (k >= 1) {
-        const double ratio = norm / previousNorm;
-        newton.theta = k == 1 ? ratio : std::sqrt(ratio * previousRatio);
-        previousRatio = ratio;
-        if (newton.theta >= 0.99) break;
-        w.faccon = newton.theta / (1.0 - newton.theta);
-        // Would the remaining iterations reach the tolerance at this contraction rate?
-        const int left = opt.maxNewtonIterations - 1 - k;
-        const double predicted = w.faccon * norm * std::pow(newton.theta, left) / w.newtonTol;
-        if (predicted >= 1.0) {
-          const double q = std::clamp(predicted, 1e-4, 20.0);
-          newton.stepFactor = 0.8 * std::pow(q, -1.0 / (4.0 + left));
-          break;
-        }
-      }
-      previousNorm = norm;
-      w.Z += w.dZ;
-      applyPrescribed();
-      if (w.faccon * norm <= w.newtonTol) {
-        newton.converged = true;
-        break;
-      }
-    }
+    w.startingValues(t, h);
+    const NewtonOutcome newton = w.newton(t, h, opt.maxNewtonIterations, report, statistics_);
     report.newtonIterations += newton.iterations;
 
     if (!newton.converged) {
       if (!opt.adaptive) return fail("radau_iia: Newton iteration did not converge");
       ++report.rejected;
       rejectedLast = true;
-      h *= finite ? newton.stepFactor : 0.5;
+      h *= newton.stepFactor;
       if (!freshJacobian && !simplified) needJacobian = true;
       continue;
     }
 
-    // Embedded error estimate (D.21-D.22), filtered through (gamma/h I - J)^-1.
-    const Eigen::Vector3d dd = (tab.gamma / h) * tab.errorWeights;
-    w.y1 = w.y0 + w.Z.col(2);
-    w.scratch = w.F0 + w.Z * dd;
-    w.zeroConstrainedRows(w.scratch);
-    w.err.resize(2 * n);
-    w.solveReal(h, w.scratch, w.err);
-    ++report.linearIterations;
-    ++statistics_.linearSolves;
-    double error = w.weightedNorm(w.err, w.y0, w.y1);
-    if (error >= 1.0 && (first || rejectedLast)) {
-      // Near a stiff transient the first estimate is too pessimistic; one more filtering
-      // pass with F evaluated at y0 + err gives a bounded estimate for large h * |J|.
-      w.stage = w.y0 + w.err;
-      if (w.derivative(t, w.stage, w.F.col(0), statistics_)) {
-        w.scratch = w.F.col(0) + w.Z * dd;
-        w.zeroConstrainedRows(w.scratch);
-        w.solveReal(h, w.scratch, w.err);
-        ++report.linearIterations;
-        ++statistics_.linearSolves;
-        error = w.weightedNorm(w.err, w.y0, w.y1);
-      }
-    }
-    if (!std::isfinite(error)) error = 1e10;
+    const double error = w.estimateError(t, h, first || rejectedLast, report, statistics_);
 
     // Step size proposal: safety factor smaller when Newton needed many iterations.
     const int kmax = opt.maxNewtonIterations;

@@ -73,13 +73,15 @@ class RadauIIA : public Integrator {
 
   // Integrates over frameTime. The report's errorEstimate is the largest weighted RMS norm of
   // the local error estimate over the accepted substeps (1 = exactly at tolerance);
-  // linearIterations counts linear solves (each a real or complex 3n x 3n LU solve).
+  // linearIterations counts linear solves (each a real or complex 3n x 3n LU solve);
+  // rejected counts steps rejected by the error test and by Newton failure.
   StepReport advance(System& system, double frameTime) override;
 
   const RadauOptions& options() const { return options_; }
   const RadauStatistics& statistics() const { return statistics_; }
   void resetStatistics() { statistics_ = {}; }
-  // Forget the step size and stage history (the next frame starts from initialStep).
+  // Forget the step size and stage history (the next frame starts from initialStep) and the
+  // matrices built for the last system; call it after changing the system's pattern.
   void reset();
 
  private:
