@@ -1,2 +1,234 @@
+// tissue_cli: the command-line face of the core. Its output is a contract other checks rely
+// on (README "Command-line tool"). Exit codes: 0 ok, 2 bad input or usage, 3 the simulation
+// failed (non-finite state or no convergence).
+#include <cmath>
 #include <cstdio>
-int main() { std::puts("tissue_cli: not yet"); return 0; }
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "tissue_trainer/core/error.h"
+#include "tissue_trainer/core/mesh/mesh_io.h"
+#include "tissue_trainer/core/mesh/quality.h"
+#include "tissue_trainer/core/scene/factories.h"
+#include "tissue_trainer/core/scene/scene.h"
+#include "tissue_trainer/core/scene/scene_runner.h"
+
+namespace {
+
+constexpr int kOk = 0, kBadInput = 2, kRunFailed = 3;
+
+const char* const kUsage =
+    "usage:\n"
+    "  tissue_cli info MESH\n"
+    "  tissue_cli convert IN OUT            (OUT: .vtu, .msh (Gmsh v2), .node/.ele (TetGen))\n"
+    "  tissue_cli run SCENE.yaml [--duration T] [--out DIR]\n"
+    "  tissue_cli forces --mesh MESH --deformed POSITIONS --model NAME --lambda L --mu M\n"
+    "                    [--lambda-l LL --mu-l ML --fiber X Y Z]\n";
+
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Options of the form --name value [value ...]; positional arguments kept in order.
+struct Arguments {
+  std::vector<std::string> positional;
+  std::map<std::string, std::vector<std::string>> options;
+
+  Arguments(int argc, char** argv, int first, const std::map<std::string, int>& arity) {
+    for (int i = first; i < argc; ++i) {
+      const std::string arg = argv[i];
+      if (arg.rfind("--", 0) != 0) {
+        positional.push_back(arg);
+        continue;
+      }
+      const auto known = arity.find(arg.substr(2));
+      if (known == arity.end()) throw UsageError("unknown option " + arg);
+      std::vector<std::string>& values = options[known->first];
+      for (int k = 0; k < known->second; ++k) {
+        if (++i >= argc) throw UsageError(arg + " expects " + std::to_string(known->second) + " value(s)");
+        values.push_back(argv[i]);
+      }
+    }
+  }
+  bool has(const std::string& name) const { return options.count(name) > 0; }
+  const std::string& text(const std::string& name) const {
+    const auto it = options.find(name);
+    if (it == options.end()) throw UsageError("missing --" + name);
+    return it->second.front();
+  }
+  double number(const std::string& name, size_t index = 0) const {
+    const auto it = options.find(name);
+    if (it == options.end()) throw UsageError("missing --" + name);
+    return parseNumber("--" + name, it->second.at(index));
+  }
+  static double parseNumber(const std::string& what, const std::string& text) {
+    char* end = nullptr;
+    const double value = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(value))
+      throw UsageError(what + " expects a finite number, got '" + text + "'");
+    return value;
+  }
+};
+
+int info(const Arguments& args) {
+  if (args.positional.size() != 1) throw UsageError("info expects one MESH");
+  tt::ReadNotes notes;
+  tt::Mesh mesh = tt::readMesh(args.positional[0], &notes);
+  std::cout << "mesh " << args.positional[0] << "\n";
+  for (const auto& line : notes.lines) std::cout << "note " << line << "\n";
+  std::cout << tt::formatQuality(tt::meshQuality(mesh));
+  return kOk;
+}
+
+int convert(const Arguments& args) {
+  if (args.positional.size() != 2) throw UsageError("convert expects IN and OUT");
+  const std::string& out = args.positional[1];
+  tt::Mesh mesh = tt::readMesh(args.positional[0]);
+  auto endsWith = [&](const char* suffix) {
+    const size_t n = std::strlen(suffix);
+    return out.size() >= n && out.compare(out.size() - n, n, suffix) == 0;
+  };
+  if (endsWith(".vtu")) tt::writeVtu(out, mesh);
+  else if (endsWith(".msh")) tt::writeGmsh2(out, mesh);
+  else if (endsWith(".node") || endsWith(".ele")) tt::writeTetgen(out.substr(0, out.size() - (endsWith(".node") ? 5 : 4)), mesh);
+  else throw UsageError("convert: OUT must end in .vtu, .msh, .node or .ele");
+  std::cout << "wrote " << out << " (" << mesh.numNodes() << " nodes, " << mesh.numTets()
+            << " tets)\n";
+  return kOk;
+}
+
+int run(const Arguments& args) {
+  if (args.positional.size() != 1) throw UsageError("run expects one SCENE.yaml");
+  tt::Scene scene = tt::loadScene(args.positional[0]);
+  tt::RunOptions options;
+  if (args.has("duration")) {
+    options.duration = args.number("duration");
+    if (options.duration <= 0.0) throw UsageError("--duration expects a positive time");
+  }
+  if (args.has("out")) options.outDir = args.text("out");
+  for (const auto& note : scene.notes) std::cout << "note " << note << "\n";
+  const tt::System& s = scene.system;
+  std::cout << "scene " << scene.name << ": " << s.numNodes() << " nodes, " << s.mesh.numTets()
+            << " tets, " << s.constrainedDofs.size() << " constrained DOFs, models:";
+  for (const auto& m : s.models) std::cout << " " << m->name();
+  std::cout << ", integrator: " << scene.integrator->name() << "\n";
+  const double duration = options.duration >= 0 ? options.duration : scene.duration;
+  const int total = static_cast<int>(std::ceil(duration / scene.frameTime - 1e-9));
+  const int every = std::max(1, total / 10);
+  options.onFrame = [&](const tt::FrameLog& f) {
+    if (f.frame % every == 0 || f.frame == total || !f.step.ok)
+      std::printf("frame %d/%d t=%.4f s  kinetic=%.4g J  elastic=%.4g J  volume=%.5f  "
+                  "max_disp=%.4g m  step=%.3g ms\n",
+                  f.frame, total, f.time, f.kineticEnergy, f.elasticEnergy, f.volumeRatio,
+                  f.maxDisplacement, 1e3 * f.step.wallSeconds);
+  };
+  const tt::RunSummary summary = tt::runScene(scene, options);
+  std::printf("summary frames=%d simulated=%.4f s wall=%.3f s real_time_factor=%.3g "
+              "step_median=%.3g ms step_max=%.3g ms\n",
+              summary.frames, summary.simulatedTime, summary.wallSeconds,
+              summary.simulatedTime / std::max(summary.wallSeconds, 1e-12),
+              1e3 * summary.stepWallMedian, 1e3 * summary.stepWallMax);
+  if (!summary.files.empty())
+    std::cout << "files " << summary.files.size() << " in " << options.outDir << "\n";
+  if (!summary.ok) {
+    std::cerr << args.positional[0] << ": simulation failed at " << summary.failure << "\n";
+    return kRunFailed;
+  }
+  return kOk;
+}
+
+Eigen::VectorXd readPositions(const std::string& path, int numNodes) {
+  std::ifstream in(path);
+  if (!in) throw tt::InputError(path, 0, "cannot open the positions file");
+  Eigen::VectorXd x(3 * numNodes);
+  std::string line;
+  int node = 0;
+  long lineNumber = 0;
+  while (std::getline(in, line)) {
+    ++lineNumber;
+    std::istringstream fields(line);
+    std::string first;
+    if (!(fields >> first) || first[0] == '#') continue;
+    if (node >= numNodes)
+      throw tt::InputError(path, lineNumber, "expected " + std::to_string(numNodes) +
+                                                 " lines (one per mesh node), found more");
+    std::string tokens[3] = {first, "", ""};
+    fields >> tokens[1] >> tokens[2];
+    std::string extra;
+    if (tokens[2].empty() || (fields >> extra))
+      throw tt::InputError(path, lineNumber, "expected 3 numbers 'x y z'");
+    for (int k = 0; k < 3; ++k) {
+      char* end = nullptr;
+      const double v = std::strtod(tokens[k].c_str(), &end);
+      if (*end != '\0' || !std::isfinite(v))
+        throw tt::InputError(path, lineNumber, "expected a finite number, got '" + tokens[k] + "'");
+      x[3 * node + k] = v;
+    }
+    ++node;
+  }
+  if (node != numNodes)
+    throw tt::InputError(path, lineNumber, "expected " + std::to_string(numNodes) +
+                                               " lines (one per mesh node), found " + std::to_string(node));
+  return x;
+}
+
+int forces(const Arguments& args) {
+  if (!args.positional.empty()) throw UsageError("forces takes only options");
+  tt::Mesh mesh = tt::readMesh(args.text("mesh"));
+  tt::Material material;
+  material.lambda = args.number("lambda");
+  material.mu = args.number("mu");
+  material.lambdaL = args.has("lambda-l") ? args.number("lambda-l") : material.lambda;
+  material.muL = args.has("mu-l") ? args.number("mu-l") : material.mu;
+  if (args.has("fiber")) {
+    Eigen::Vector3d a0(args.number("fiber", 0), args.number("fiber", 1), args.number("fiber", 2));
+    if (a0.norm() == 0.0) throw UsageError("--fiber expects a non-zero direction");
+    a0.normalize();
+    for (Eigen::Matrix3d& frame : mesh.fibreFrame) frame.col(0) = a0;
+  }
+  mesh.material.assign(mesh.numTets(), 0);
+  const std::string& name = args.text("model");
+  auto model = tt::makeElasticModel(name, mesh, {material});
+  if (!model) throw UsageError("--model expects one of: " + std::string(tt::kElasticModelNames));
+  const Eigen::VectorXd x = readPositions(args.text("deformed"), mesh.numNodes());
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(x.size());
+  const double energy = model->addForce(x, Eigen::VectorXd::Zero(x.size()), f);
+  std::printf("energy %.17g\n", energy);
+  for (int n = 0; n < mesh.numNodes(); ++n)
+    std::printf("%.17g %.17g %.17g\n", f[3 * n], f[3 * n + 1], f[3 * n + 2]);
+  return kOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
+    std::cout << kUsage;
+    return argc < 2 ? kBadInput : kOk;
+  }
+  const std::string command = argv[1];
+  try {
+    if (command == "info") return info(Arguments(argc, argv, 2, {}));
+    if (command == "convert") return convert(Arguments(argc, argv, 2, {}));
+    if (command == "run") return run(Arguments(argc, argv, 2, {{"duration", 1}, {"out", 1}}));
+    if (command == "forces")
+      return forces(Arguments(argc, argv, 2,
+                              {{"mesh", 1}, {"deformed", 1}, {"model", 1}, {"lambda", 1},
+                               {"mu", 1}, {"lambda-l", 1}, {"mu-l", 1}, {"fiber", 3}}));
+    throw UsageError("unknown command '" + command + "'");
+  } catch (const tt::InputError& e) {
+    std::cerr << e.what() << "\n";
+    return kBadInput;
+  } catch (const UsageError& e) {
+    std::cerr << "tissue_cli: " << e.what() << "\n" << kUsage;
+    return kBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "tissue_cli: " << e.what() << "\n";
+    return kBadInput;
+  }
+}

@@ -1,29 +1,52 @@
 #pragma once
 // Mesh generators: structured box grids split into tets (seed 001 section 2.3.1.3), a
 // cantilever beam, a fusiform (spindle) muscle like seed 000's demo, all positively oriented
-// with the surface extracted.
+// with the surface extracted and defaults filled.
 #include "tissue_trainer/core/mesh/mesh.h"
 
 namespace tt {
 
 enum class TetSplit {
-  kFive,          // 5 tets per hex, same orientation in every cell
+  kFive,          // 5 tets per hex, same orientation in every cell (faces do NOT conform)
   kFiveMirrored,  // 5 tets per hex, mirrored 2x2x2 kernel (conforming faces)
-  kSix,           // 6 tets per hex around the main diagonal, same in every cell
-  kSixMirrored,   // 6 tets per hex, mirrored 2x2x2 kernel
+  kSix,           // 6 tets per hex around the main diagonal, same in every cell (conforming)
+  kSixMirrored,   // 6 tets per hex, mirrored 2x2x2 kernel (conforming)
 };
 
 // A grid of nodesX x nodesY x nodesZ nodes spanning [0,size.x] x [0,size.y] x [0,size.z],
-// with (nodesX-1)(nodesY-1)(nodesZ-1) hexes, each split into tets. Hexes are kept too.
+// node (i,j,k) at index i + nodesX * (j + nodesY * k), with (nodesX-1)(nodesY-1)(nodesZ-1)
+// hexes (VTK node order, kept in Mesh::hexes), each split into tets. The tets of hex h are
+// tets[h * perHex .. h * perHex + perHex - 1], perHex = 5 or 6.
 Mesh boxGrid(int nodesX, int nodesY, int nodesZ, const Eigen::Vector3d& size, TetSplit split);
 
-// A beam along +x of length L and square section w x w, fixed end at x = 0 tagged kFixedAll.
+// A beam along +x of length L and square section w x w centred on the x axis
+// (y, z in [-w/2, w/2]); the nodes of the end x = 0 are tagged kFixedAll.
 Mesh cantileverBeam(double length, double width, int cellsAlong, int cellsAcross,
                     TetSplit split = TetSplit::kSixMirrored);
 
-// A spindle along +z: radius(z) = maxRadius * sin(pi z / length)^p with round tendons; rings of
-// nodes; fibres along the spindle axis (a0 follows the local meridian). Defaults give about
-// 861 nodes and 2552 tets, like seed 000's muscle demo.
+// A fusiform muscle along +z, z in [0, length], with radius
+//   r(z) = tendonRadius + (maxRadius - tendonRadius) * sin(pi z / length)^2,
+// so the belly is maxRadius at mid-length and it tapers smoothly (r' = 0) into tendon ends of
+// radius tendonRadius. Built from `layers` cross-sections, each an axis node plus a ring of
+// `segments` nodes (the same angles on every layer); each wedge between two layers is split
+// into 3 tets with the lowest-index diagonal rule, so neighbouring wedges share faces.
+// Nodes: layers * (segments + 1); tets: 3 * segments * (layers - 1).
+// The defaults give 861 nodes and 2400 tets (seed 000's muscle demo has 861 and 2552).
+// Fibre frame per tet: column 0 is the unit tangent of the scaled meridian through the tet
+// centroid (the fibres follow the spindle shape), column 2 the circumferential direction,
+// column 1 = column 2 x column 0. The nodes of both tendon end layers are tagged kFixedAll.
+struct SpindleShape {
+  double length = 0.1;
+  double maxRadius = 0.015;
+  double tendonRadius = 0.003;
+  int segments = 20;
+  int layers = 41;
+};
+
+// r(z) of the shape above.
+double spindleRadius(const SpindleShape& shape, double z);
+
+Mesh spindleMuscle(const SpindleShape& shape);
 Mesh spindleMuscle(double length = 0.1, double maxRadius = 0.015);
 
 }  // namespace tt

@@ -48,5 +48,15 @@ void writeVtu(const std::string& path, const Mesh& mesh, const VtuFields& fields
 void writeGmsh2(const std::string& path, const Mesh& mesh);
 // Writes BASE.node and BASE.ele.
 void writeTetgen(const std::string& basePath, const Mesh& mesh);
+// Gmsh v4.1 ASCII (one volume entity) and legacy VTK ASCII unstructured grid.
+void writeGmsh4(const std::string& path, const Mesh& mesh);
+void writeVtkLegacy(const std::string& path, const Mesh& mesh);
+// Picks the writer from the extension: .vtu, .msh (v2), .vtk, .node/.ele (TetGen).
+void writeMesh(const std::string& path, const Mesh& mesh);
+
+// Writers throw std::runtime_error ("PATH: cannot open for writing") when the file cannot be
+// written and std::invalid_argument when the format cannot hold the mesh (hexes in TetGen)
+// or a field has the wrong size. Numbers are written in shortest round-trip form, so a
+// mesh read back is bit-identical.
 
 }  // namespace tt

@@ -1,0 +1,70 @@
+#pragma once
+// Linearised implicit (backward) Euler, seed 001 Eqs 2.142-2.148: one Newton step per time
+// step on v+ = v + h M^-1 f(x+, v+), x+ = x + h v+, with f linearised at (x, v):
+//   (M - h D - h^2 K) dv = h (f + h K v),   D = df/dv = -diag(c),   K = df/dx
+// (the seed's A and b multiplied by M; its dF/dt term is neglected as in the seed, and the
+// external force is taken at the start of the step). K comes from the models' analytic
+// stiffness. Constrained DOFs move to their prescribed position at t + h exactly; the
+// coupling of that motion into the free DOFs goes through K.
+//
+// With newtonIterations > 1 the first step is followed by Newton corrections on the exact
+// implicit equations, R(dv) = M dv - h f(x + h (v + dv), v + dv) = 0 (free DOFs), with K
+// re-assembled at each iterate, until |R| <= newtonTolerance * |h (f + h K v)|. For a linear
+// force the first step already solves these equations, so both variants coincide.
+//
+// Linear solver: Jacobi-preconditioned conjugate gradients, warm-started from the previous
+// dv. M - h D - h^2 K is symmetric when the models are conservative but only positive
+// definite when -K is positive semi-definite "enough"; when CG meets non-positive curvature
+// (or a non-positive diagonal), the solve is redone with Jacobi-preconditioned BiCGSTAB
+// (Eigen) from the same initial guess, and the event is counted in diagnostics().
+#include <Eigen/Core>
+
+#include "tissue_trainer/core/integrate/integrator.h"
+
+namespace tt {
+
+struct BackwardEulerParams {
+  int substeps = 1;               // equal substeps per frame
+  double linearTolerance = 1e-8;  // relative residual |b - A dv| / |b|
+  int linearMaxIterations = 500;
+  int newtonIterations = 1;       // 1: the seed's linearised step; > 1: full Newton
+  double newtonTolerance = 1e-6;  // relative residual of the implicit equations
+  bool requireConvergence = false;  // Newton not converged: restore the frame, ok = false
+  bool warmStart = true;
+};
+
+// Counts over the integrator's life (not per frame).
+struct BackwardEulerDiagnostics {
+  int nonPositiveCurvature = 0;  // CG solves abandoned for BiCGSTAB
+  int unconvergedLinear = 0;     // solves that hit linearMaxIterations
+  int unconvergedNewton = 0;     // steps whose Newton loop hit newtonIterations (> 1)
+};
+
+class BackwardEulerIntegrator : public Integrator {
+ public:
+  explicit BackwardEulerIntegrator(BackwardEulerParams params = {}) : params(params) {}
+  const char* name() const override { return "backward_euler"; }
+  bool needsStiffness() const override { return true; }
+  StepReport advance(System& system, double frameTime) override;
+
+  const BackwardEulerDiagnostics& diagnostics() const { return diagnostics_; }
+
+  BackwardEulerParams params;
+
+ private:
+  bool substep(System& system, double h, double endTime, StepReport& report);
+  // A = M + h C - h^2 K with the system's constraints applied (identity rows and columns).
+  void buildMatrix(const System& system, double h);
+  // Solves A x = b (x holds the initial guess); returns the iterations used.
+  int solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
+  bool conjugateGradients(const Eigen::VectorXd& b, Eigen::VectorXd& x, int& iterations);
+
+  BackwardEulerDiagnostics diagnostics_;
+  SparseMatrix K_, A_;
+  std::vector<int> diagonal_;  // offset of (i, i) in A_'s value array
+  Eigen::VectorXd dv_, f_, rhs_, constrainedDv_, residual_, correction_;
+  Eigen::VectorXd r_, z_, p_, Ap_, inverseDiagonal_;
+  Eigen::VectorXd x1_, v1_, targetX_, targetV_;
+};
+
+}  // namespace tt

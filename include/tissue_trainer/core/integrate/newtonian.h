@@ -1,0 +1,60 @@
+#pragma once
+// The variable-step explicit "Newtonian" scheme of seed 000 (Eq 10-11, Appendix A): a
+// two-step central-difference method on positions for m x'' = F - gamma x'.
+//
+// With h_prev the previous step and h = eta * h_prev the new one (seed's Delta t and
+// eta Delta t), Eq 11 gives, per DOF,
+//   (2m/(eta(eta+1)h_prev^2) + gamma/(eta(eta+1)h_prev)) x+ = F
+//       + (2m/(eta h_prev^2) - gamma(eta-1)/(eta h_prev)) x
+//       - (2m/((eta+1)h_prev^2) - gamma eta/((eta+1)h_prev)) x-
+// where F is every force except the damping (models + external). This is exactly Eq 10 with
+// the physical damping force -gamma v (the Appendix A velocity and acceleration formulas
+// substituted into m a + gamma v = F), so it is what is implemented.
+//
+// Damping sign: the equal-step form printed as Eq A.5 is Eq 11 at eta = 1 with gamma
+// replaced by -gamma, i.e. it integrates Picinbono's Eq A.3 (m a = F + gamma v), which pumps
+// energy in. The option assumeEqualSteps uses the eta = 1 form with the physical sign:
+//   (m/h^2 + gamma/(2h)) x+ = F + 2m/h^2 x - (m/h^2 - gamma/(2h)) x-
+// (printed A.5 with gamma -> -gamma), taking h as the current step even when the previous
+// step differed, as Picinbono's scheme does. It is first order at best when steps change.
+//
+// The scheme carries the previous position between frames. It restarts (second-order
+// Taylor start, Eq A.2 with a = M^-1 (F - gamma v)) when the system's state was changed
+// from outside since the last frame. The velocity written to the state is the second-order
+// backward difference through the last three positions (exact for quadratics, any steps).
+// Stable for undamped linear problems when h < 2 / omega_max.
+#include <Eigen/Core>
+
+#include "tissue_trainer/core/integrate/integrator.h"
+
+namespace tt {
+
+struct NewtonianParams {
+  double substep = 1e-3;          // s; a frame is split into equal substeps no longer than this
+  bool assumeEqualSteps = false;  // Picinbono's eta = 1 form (with the physical damping sign)
+};
+
+class NewtonianIntegrator : public Integrator {
+ public:
+  explicit NewtonianIntegrator(NewtonianParams params = {}) : params(params) {}
+  const char* name() const override { return "newtonian"; }
+  StepReport advance(System& system, double frameTime) override;
+
+  // Forgets the previous position: the next step starts from the state's x and v.
+  void restart() { hasHistory_ = false; }
+
+  NewtonianParams params;
+
+ private:
+  bool continuesFrom(const State& s) const;
+  void start(const System& system, double h);
+  void substep(System& system, double h, double endTime);
+
+  bool hasHistory_ = false;
+  Eigen::VectorXd previousX_;  // position one step back
+  double previousStep_ = 0.0;
+  State last_;                 // the state this integrator left behind
+  Eigen::VectorXd force_, nextX_;
+};
+
+}  // namespace tt

@@ -1,0 +1,66 @@
+#pragma once
+// Seed 000 section 2: the translation-invariant, transversely isotropic St Venant-Kirchhoff
+// tetrahedron written with edge lengths (Eqs 29 and 31, with the ERRATA corrections).
+// Two evaluation paths of the same polynomial:
+//   kFast    : F, E, S (stvk_kernel.h), the cheapest way to evaluate it;
+//   kLiteral : the packed single-sum force of Eq 31 and the energy of Eqs 28-29, from rest
+//              K_jk (Eq 20), face areas A_j, alpha_j = g_j and the deformed squared edge lengths.
+// Both give energy V0 W and physical force -V0 F_p (ERRATA items 1-2) and share the analytic
+// stiffness.
+#include <array>
+#include <string>
+#include <vector>
+
+#include "tissue_trainer/core/model/force_model.h"
+#include "tissue_trainer/core/model/material.h"
+#include "tissue_trainer/core/model/stvk_kernel.h"
+
+namespace tt {
+
+enum class EdgeLengthPath { kFast, kLiteral };
+
+// "fast" or "literal"; returns false for anything else.
+bool parseEdgeLengthPath(const std::string& name, EdgeLengthPath& path);
+
+// Rest constants of one tet for the literal path (edges ordered 01 02 03 12 13 23).
+struct EdgeLengthLiteralTet {
+  std::array<double, 6> restSq;   // l_jk^2
+  std::array<double, 6> K;        // K_jk, Eq 20
+  std::array<double, 4> areaSq;   // A_j^2, face opposite node j
+  std::array<double, 4> fibreGrad;  // a0 . alpha_j
+  double volume = 0.0;
+  double muScale = 0.0;      // mu / (162 V^4)
+  double lambdaMuScale = 0.0;  // (lambda + mu) / (162 V^4)
+  double c = 0.0;            // (lambdaL - lambda)/2 + (muL - mu)
+};
+
+EdgeLengthLiteralTet makeEdgeLengthLiteralTet(const Eigen::Matrix3Xd& rest, const Tet& tet,
+                                              const Eigen::Vector3d& fibre, const Material& m);
+// Eq 31 (positive gradient of the density W w.r.t. the deformed positions, columns p).
+Matrix34d edgeLengthLiteralGradient(const Matrix34d& xe, const EdgeLengthLiteralTet& t);
+// Eqs 28-29: the density W.
+double edgeLengthLiteralDensity(const Matrix34d& xe, const EdgeLengthLiteralTet& t);
+
+class EdgeLengthModel : public ForceModel {
+ public:
+  EdgeLengthModel(const Mesh& mesh, const std::vector<Material>& materials,
+                  EdgeLengthPath path = EdgeLengthPath::kFast);
+
+  const char* name() const override { return "edge_length"; }
+  double addForce(const Eigen::VectorXd& x, const Eigen::VectorXd& v,
+                  Eigen::VectorXd& f) const override;
+  double energy(const Eigen::VectorXd& x) const override;
+  bool hasStiffness() const override { return true; }
+  void addStiffness(const Eigen::VectorXd& x, double scale, const SparsePattern& pattern,
+                    SparseMatrix& K) const override;
+
+  EdgeLengthPath path() const { return path_; }
+
+ private:
+  std::vector<Tet> tets_;
+  std::vector<StvkTet> stvk_;
+  std::vector<EdgeLengthLiteralTet> literal_;  // filled only for the literal path
+  EdgeLengthPath path_;
+};
+
+}  // namespace tt

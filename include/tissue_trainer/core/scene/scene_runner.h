@@ -1,0 +1,42 @@
+#pragma once
+// Runs a loaded scene headless for a duration: one integrator advance per frame, a CSV log
+// line per frame and a VTU file every N frames (with a ParaView .pvd collection).
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "tissue_trainer/core/scene/scene.h"
+
+namespace tt {
+
+struct FrameLog {
+  int frame = 0;
+  double time = 0.0;
+  double kineticEnergy = 0.0;
+  double elasticEnergy = 0.0;
+  double volumeRatio = 1.0;      // total deformed volume / total rest volume
+  double maxDisplacement = 0.0;  // m
+  StepReport step;
+};
+
+struct RunOptions {
+  double duration = -1.0;   // s; negative: the scene's duration
+  std::string outDir;       // empty: write nothing
+  std::function<void(const FrameLog&)> onFrame;  // progress, called after every frame
+};
+
+struct RunSummary {
+  int frames = 0;
+  double simulatedTime = 0.0;
+  double wallSeconds = 0.0;
+  double stepWallMedian = 0.0, stepWallMax = 0.0;  // s per frame
+  FrameLog last;
+  bool ok = true;
+  std::string failure;
+  std::vector<std::string> files;  // written, in order
+};
+
+FrameLog measureFrame(const System& system, int frame, const StepReport& step);
+RunSummary runScene(Scene& scene, const RunOptions& options);
+
+}  // namespace tt

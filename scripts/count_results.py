@@ -1,0 +1,26 @@
+#!/usr/bin/python3
+"""Sums gtest/rostest JUnit XML result files: prints 'N passed, N failed[, N skipped]'.
+Exit 0 only when at least one test ran and none failed."""
+import sys
+import xml.etree.ElementTree as ET
+
+passed = failed = skipped = 0
+for path in sys.argv[1:]:
+    try:
+        root = ET.parse(path).getroot()
+    except (OSError, ET.ParseError) as err:
+        print(f"{path}: unreadable result file ({err})")
+        failed += 1
+        continue
+    for case in root.iter("testcase"):
+        if case.find("failure") is not None or case.find("error") is not None:
+            failed += 1
+        elif case.find("skipped") is not None or case.get("status") == "notrun":
+            skipped += 1
+        else:
+            passed += 1
+line = f"{passed} passed, {failed} failed"
+if skipped:
+    line += f", {skipped} skipped"
+print(line)
+sys.exit(0 if passed > 0 and failed == 0 else 1)

@@ -1,0 +1,76 @@
+# Shared by scripts/demo, scripts/test and scripts/bench: install what is missing, build the
+# catkin workspace outside the tracked tree. Source it; do not run it.
+set -euo pipefail
+
+TT_REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+TT_WORKSPACE="${TT_WORKSPACE:-$TT_REPO/.build/ws}"
+TT_JOBS="${TT_JOBS:-2}"
+
+# Debian's packages the build, tests and demo need (ROS 1 is packaged by Debian).
+TT_PACKAGES=(
+  build-essential cmake pkg-config catkin ros-base-dev python3-catkin-pkg
+  python3-rostest librostest-dev librosbag-dev python3-rosbag python3-roslaunch
+  python3-rostopic python3-rosnode python3-rosparam
+  libtf2-ros-dev libtf2-geometry-msgs-dev liburdfdom-dev liburdf-dev ros-message-generation
+  libstd-msgs-dev libgeometry-msgs-dev libsensor-msgs-dev libvisualization-msgs-dev
+  ros-std-msgs ros-geometry-msgs ros-sensor-msgs ros-visualization-msgs
+  libbullet-dev libosmesa6-dev libpng-dev libeigen3-dev libyaml-cpp-dev libgtest-dev
+)
+
+tt_say() { printf '[tissue_trainer] %s\n' "$*"; }
+
+tt_install_deps() {
+  local missing=()
+  for pkg in "${TT_PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" ||
+      missing+=("$pkg")
+  done
+  if [ ${#missing[@]} -eq 0 ]; then
+    tt_say "all ${#TT_PACKAGES[@]} Debian packages present"
+    return
+  fi
+  local sudo=()
+  [ "$(id -u)" -eq 0 ] || sudo=(sudo)
+  tt_say "installing ${#missing[@]} missing Debian packages: ${missing[*]}"
+  "${sudo[@]}" apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq --no-install-recommends \
+    "${missing[@]}" >/dev/null
+  tt_say "packages installed"
+}
+
+# ROS tools write into HOME unless told otherwise; keep ROS networking on loopback.
+tt_ros_env() {
+  export ROS_HOME="${ROS_HOME:-$TT_REPO/.build/ros_home}"
+  export ROS_LOG_DIR="${ROS_LOG_DIR:-$ROS_HOME/log}"
+  export ROS_HOSTNAME=127.0.0.1
+  export ROS_MASTER_URI="${ROS_MASTER_URI:-http://127.0.0.1:11311}"
+  export MESA_SHADER_CACHE_DISABLE=true
+  mkdir -p "$ROS_HOME"
+}
+
+# Builds the package (and its tests) in the workspace. The pyenv python3 that may be first
+# on PATH lacks Debian's catkin_pkg, so /usr/bin comes first.
+tt_build() {
+  tt_ros_env
+  mkdir -p "$TT_WORKSPACE/src"
+  ln -sfn "$TT_REPO" "$TT_WORKSPACE/src/tissue_trainer"
+  tt_say "building in $TT_WORKSPACE (Release, $TT_JOBS jobs)"
+  local start=$SECONDS log="$TT_WORKSPACE/build.log"
+  if ! (cd "$TT_WORKSPACE" && PATH="/usr/bin:$PATH" catkin_make \
+        -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 \
+        -j"$TT_JOBS" all tests >"$log" 2>&1); then
+    grep -E "error|Error" "$log" | head -40 || true
+    tt_say "build failed; full log: $log"
+    return 1
+  fi
+  tt_say "build done in $((SECONDS - start)) s"
+  TT_BIN="$TT_WORKSPACE/devel/lib/tissue_trainer"
+  export TT_BIN
+}
+
+tt_source_workspace() {
+  set +u
+  # shellcheck disable=SC1091
+  source "$TT_WORKSPACE/devel/setup.bash"
+  set -u
+}

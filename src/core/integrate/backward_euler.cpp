@@ -1,0 +1,209 @@
+#include "tissue_trainer/core/integrate/backward_euler.h"
+
+#include <Eigen/IterativeLinearSolvers>
+#include <algorithm>
+#include <cmath>
+
+#include "frame_guard.h"
+
+namespace tt {
+
+namespace {
+
+double freeNorm(const System& system, Eigen::VectorXd r) {
+  system.zeroConstrained(r);
+  return r.norm();
+}
+
+}  // namespace
+
+void BackwardEulerIntegrator::buildMatrix(const System& system, double h) {
+  if (A_.rows() != K_.rows() || A_.nonZeros() != K_.nonZeros()) {
+    A_ = K_;
+    diagonal_.assign(A_.rows(), -1);
+    for (int row = 0; row < A_.outerSize(); ++row)
+      for (SparseMatrix::InnerIterator it(A_, row); it; ++it)
+        if (it.col() == row) diagonal_[row] = static_cast<int>(&it.valueRef() - A_.valuePtr());
+  }
+  const double* k = K_.valuePtr();
+  double* a = A_.valuePtr();
+  const double scale = -h * h;
+  for (Eigen::Index i = 0; i < K_.nonZeros(); ++i) a[i] = scale * k[i];
+  for (int row = 0; row < A_.rows(); ++row)
+    a[diagonal_[row]] += system.mass[row] + h * system.damping[row];
+}
+
+bool BackwardEulerIntegrator::conjugateGradients(const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                                                 int& iterations) {
+  const double threshold = params.linearTolerance * b.norm();
+  r_ = b - A_ * x;
+  iterations = 0;
+  if (r_.norm() <= threshold) return true;
+  z_ = inverseDiagonal_.cwiseProduct(r_);
+  p_ = z_;
+  double rz = r_.dot(z_);
+  while (iterations < params.linearMaxIterations) {
+    ++iterations;
+    Ap_.noalias() = A_ * p_;
+    const double curvature = p_.dot(Ap_);
+    if (!(curvature > 0.0)) return false;
+    const double alpha = rz / curvature;
+    x += alpha * p_;
+    r_ -= alpha * Ap_;
+    if (r_.norm() <= threshold) return true;
+    z_ = inverseDiagonal_.cwiseProduct(r_);
+    const double rzNext = r_.dot(z_);
+    p_ = z_ + (rzNext / rz) * p_;
+    rz = rzNext;
+  }
+  ++diagnostics_.unconvergedLinear;
+  return true;
+}
+
+int BackwardEulerIntegrator::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  if (b.norm() == 0.0) {
+    x.setZero();
+    return 0;
+  }
+  inverseDiagonal_.resize(A_.rows());
+  bool positiveDiagonal = true;
+  for (int row = 0; row < A_.rows(); ++row) {
+    const double d = A_.valuePtr()[diagonal_[row]];
+    positiveDiagonal = positiveDiagonal && d > 0.0;
+    inverseDiagonal_[row] = 1.0 / d;
+  }
+  const Eigen::VectorXd guess = x;
+  int iterations = 0;
+  if (positiveDiagonal && conjugateGradients(b, x, iterations)) return iterations;
+
+  ++diagnostics_.nonPositiveCurvature;
+  Eigen::BiCGSTAB<SparseMatrix, Eigen::DiagonalPreconditioner<double>> fallback;
+  fallback.setTolerance(params.linearTolerance);
+  fallback.setMaxIterations(params.linearMaxIterations);
+  fallback.compute(A_);
+  x = fallback.solveWithGuess(b, guess);
+  if (fallback.info() != Eigen::Success) ++diagnostics_.unconvergedLinear;
+  return iterations + static_cast<int>(fallback.iterations());
+}
+
+bool BackwardEulerIntegrator::substep(System& system, double h, double endTime,
+                                      StepReport& report) {
+  State& s = system.state;
+  const Eigen::Index n = s.x.size();
+  system.computeForce(s.x, s.v, f_);
+  system.assembleStiffness(s.x, K_);
+  ++report.jacobians;
+  buildMatrix(system, h);
+
+  // Constrained DOFs: dv that lands x + h (v + dv) on the prescribed position at t + h.
+  targetX_ = s.x;
+  targetV_ = s.v;
+  system.prescribe(endTime, targetX_, targetV_);
+  constrainedDv_.setZero(n);
+  for (int dof : system.constrainedDofs)
+    constrainedDv_[dof] = (targetX_[dof] - s.x[dof]) / h - s.v[dof];
+
+  rhs_ = h * (f_ + h * (K_ * s.v));
+  if (!system.constrainedDofs.empty()) rhs_ -= A_ * constrainedDv_;
+  for (int dof : system.constrainedDofs) rhs_[dof] = constrainedDv_[dof];
+  if (!rhs_.allFinite() || !Eigen::Map<const Eigen::VectorXd>(A_.valuePtr(), A_.nonZeros())
+                               .allFinite()) {
+    report.failure = "backward_euler: non-finite force or stiffness at t = " + std::to_string(s.t);
+    return false;
+  }
+  system.constrainMatrix(A_);
+  if (!params.warmStart || dv_.size() != n) dv_.setZero(n);
+  for (int dof : system.constrainedDofs) dv_[dof] = constrainedDv_[dof];
+  report.linearIterations += solve(rhs_, dv_);
+  int solves = 1;
+
+  bool converged = true;
+  if (params.newtonIterations > 1) {
+    const double scale = freeNorm(system, rhs_);
+    converged = false;
+    while (true) {
+      v1_ = s.v + dv_;
+      x1_ = s.x + h * v1_;
+      for (int dof : system.constrainedDofs) {
+        x1_[dof] = targetX_[dof];
+        v1_[dof] = targetV_[dof];
+      }
+      system.computeForce(x1_, v1_, f_);
+      residual_ = system.mass.cwiseProduct(dv_) - h * f_;
+      system.zeroConstrained(residual_);
+      if (residual_.norm() <= params.newtonTolerance * scale) {
+        converged = true;
+        break;
+      }
+      if (!residual_.allFinite()) {
+        report.failure = "backward_euler: non-finite force in Newton iteration at t = " +
+                         std::to_string(s.t);
+        return false;
+      }
+      if (solves >= params.newtonIterations) break;
+      system.assembleStiffness(x1_, K_);
+      ++report.jacobians;
+      buildMatrix(system, h);
+      system.constrainMatrix(A_);
+      correction_.setZero(n);
+      report.linearIterations += solve(-residual_, correction_);
+      dv_ += correction_;
+      ++solves;
+    }
+  }
+  report.newtonIterations += solves;
+  if (!converged) {
+    ++diagnostics_.unconvergedNewton;
+    if (params.requireConvergence) {
+      report.failure = "backward_euler: Newton did not converge in " +
+                       std::to_string(params.newtonIterations) + " iterations at t = " +
+                       std::to_string(s.t);
+      return false;
+    }
+  }
+
+  s.v += dv_;
+  s.x += h * s.v;
+  s.t = endTime;
+  system.prescribe(s.t, s.x, s.v);
+
+  // Local error of backward Euler in position: h^2/2 x'' ~ h/2 dv (free DOFs, max norm).
+  correction_ = 0.5 * h * dv_;
+  system.zeroConstrained(correction_);
+  const double estimate = correction_.lpNorm<Eigen::Infinity>();
+  if (!(report.errorEstimate >= estimate)) report.errorEstimate = estimate;
+  return true;
+}
+
+StepReport BackwardEulerIntegrator::advance(System& system, double frameTime) {
+  StepReport report;
+  detail::FrameGuard guard(system.state);
+  if (!system.hasStiffness()) {
+    guard.restore(system.state, report,
+                  "backward_euler: every force model must provide its stiffness");
+    return report;
+  }
+  const int n = std::max(1, params.substeps);
+  const double h = frameTime / n;
+  for (int i = 0; i < n; ++i) {
+    if (!substep(system, h, detail::substepEnd(guard.start().t, frameTime, i, n), report)) {
+      const std::string why = report.failure;
+      guard.restore(system.state, report, why);
+      dv_.setZero();
+      break;
+    }
+    if (!detail::FrameGuard::finite(system.state)) {
+      guard.restore(system.state, report,
+                    "backward_euler: non-finite state at t = " +
+                        std::to_string(system.state.t) + " (step " + std::to_string(h) + " s)");
+      dv_.setZero();
+      break;
+    }
+    ++report.substeps;
+    report.lastStep = h;
+  }
+  guard.finish(report);
+  return report;
+}
+
+}  // namespace tt

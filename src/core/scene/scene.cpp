@@ -1,0 +1,333 @@
+#include "tissue_trainer/core/scene/scene.h"
+
+#include <Eigen/Dense>
+#include <filesystem>
+#include <fstream>
+
+#include "tissue_trainer/core/mesh/generators.h"
+#include "tissue_trainer/core/mesh/mesh_io.h"
+#include "tissue_trainer/core/model/gravity.h"
+#include "tissue_trainer/core/scene/factories.h"
+#include "tissue_trainer/core/scene/yaml_reader.h"
+
+namespace tt {
+namespace {
+
+namespace fs = std::filesystem;
+
+double lengthUnit(const YamlEntry& e) {
+  const std::string unit = e.choice({"m", "cm", "mm"});
+  return unit == "m" ? 1.0 : unit == "cm" ? 1e-2 : 1e-3;
+}
+
+double stressUnit(const YamlEntry& e) {
+  const std::string unit = e.choice({"Pa", "kPa", "MPa"});
+  return unit == "Pa" ? 1.0 : unit == "kPa" ? 1e3 : 1e6;
+}
+
+TetSplit parseSplit(const YamlEntry& e) {
+  const std::string s = e.choice({"five", "five_mirrored", "six", "six_mirrored"});
+  if (s == "five") return TetSplit::kFive;
+  if (s == "five_mirrored") return TetSplit::kFiveMirrored;
+  if (s == "six") return TetSplit::kSix;
+  return TetSplit::kSixMirrored;
+}
+
+Mesh generateMesh(const YamlEntry& spec) {
+  const std::string type = spec["generator"].choice({"box", "cantilever", "spindle"});
+  if (type == "box") {
+    spec.expectMap({"generator", "nodes", "size", "split", "length_unit", "scale"});
+    const YamlEntry nodes = spec["nodes"];
+    if (nodes.size() != 3) nodes.fail("expected 3 node counts [nx, ny, nz]");
+    const Eigen::Vector3d size = spec["size"].vector3();
+    if ((size.array() <= 0.0).any()) spec["size"].fail("expected positive sizes");
+    return boxGrid(nodes[0].integerAtLeast(2), nodes[1].integerAtLeast(2),
+                   nodes[2].integerAtLeast(2), size,
+                   spec.has("split") ? parseSplit(spec["split"]) : TetSplit::kFiveMirrored);
+  }
+  if (type == "cantilever") {
+    spec.expectMap({"generator", "length", "width", "cells_along", "cells_across", "split",
+                    "length_unit", "scale"});
+    return cantileverBeam(spec["length"].positive(), spec["width"].positive(),
+                          spec.integerAtLeast("cells_along", 1, 10),
+                          spec.integerAtLeast("cells_across", 1, 2),
+                          spec.has("split") ? parseSplit(spec["split"]) : TetSplit::kSixMirrored);
+  }
+  spec.expectMap({"generator", "length", "max_radius", "length_unit", "scale"});
+  return spindleMuscle(spec.positive("length", 0.1), spec.positive("max_radius", 0.015));
+}
+
+Mesh loadMesh(const YamlEntry& spec, const fs::path& sceneDir, std::vector<std::string>& notes) {
+  Mesh mesh;
+  if (spec.has("file")) {
+    spec.expectMap({"file", "length_unit", "scale"});
+    const YamlEntry fileEntry = spec["file"];
+    fs::path file = fileEntry.text();
+    if (file.is_relative()) file = sceneDir / file;
+    if (!fs::is_regular_file(file)) fileEntry.fail("mesh file '" + file.string() + "' not found");
+    ReadNotes readNotes;
+    mesh = readMesh(file.string(), &readNotes);
+    for (auto& line : readNotes.lines) notes.push_back(file.filename().string() + ": " + line);
+  } else if (spec.has("generator")) {
+    mesh = generateMesh(spec);
+  } else {
+    spec.fail("expected 'file' or 'generator'");
+  }
+  double scale = spec.has("length_unit") ? lengthUnit(spec["length_unit"]) : 1.0;
+  if (spec.has("scale")) scale *= spec["scale"].positive();
+  mesh.rest *= scale;
+  if (mesh.numTets() == 0) spec.fail("the mesh has no tetrahedra");
+  return mesh;
+}
+
+// The nodes a selection names: {box: {min, max}}, {plane: {point, normal, tolerance}},
+// {nodes: [indices]}. An empty result is an error.
+std::vector<int> selectNodes(const YamlEntry& spec, const Mesh& mesh) {
+  std::vector<int> nodes;
+  const int n = mesh.numNodes();
+  if (spec.has("box")) {
+    const YamlEntry box = spec["box"];
+    box.expectMap({"min", "max"});
+    const Eigen::Vector3d lo = box["min"].vector3(), hi = box["max"].vector3();
+    for (int i = 0; i < n; ++i) {
+      const Eigen::Vector3d p = mesh.rest.col(i);
+      if ((p.array() >= lo.array()).all() && (p.array() <= hi.array()).all()) nodes.push_back(i);
+    }
+  } else if (spec.has("plane")) {
+    const YamlEntry plane = spec["plane"];
+    plane.expectMap({"point", "normal", "tolerance"});
+    const Eigen::Vector3d point = plane["point"].vector3();
+    Eigen::Vector3d normal = plane["normal"].vector3();
+    if (normal.norm() == 0.0) plane["normal"].fail("expected a non-zero normal");
+    normal.normalize();
+    const double tol = plane.positive("tolerance", 1e-9 * (mesh.rest.maxCoeff() - mesh.rest.minCoeff() + 1.0));
+    for (int i = 0; i < n; ++i)
+      if (std::abs((mesh.rest.col(i) - point).dot(normal)) <= tol) nodes.push_back(i);
+  } else if (spec.has("nodes")) {
+    const YamlEntry list = spec["nodes"];
+    nodes = list.integers();
+    for (size_t k = 0; k < nodes.size(); ++k)
+      if (nodes[k] < 0 || nodes[k] >= n)
+        list[k].fail("expected a node index in [0, " + std::to_string(n - 1) + "]");
+  } else {
+    spec.fail("expected one of 'box', 'plane' or 'nodes'");
+  }
+  if (nodes.empty()) spec.fail("the selection matches no node");
+  return nodes;
+}
+
+std::uint8_t parseAxes(const YamlEntry& e) {
+  const std::string axes = e.text();
+  std::uint8_t bits = 0;
+  for (char c : axes) {
+    if (c == 'x') bits |= kFixedX;
+    else if (c == 'y') bits |= kFixedY;
+    else if (c == 'z') bits |= kFixedZ;
+    else e.fail("expected a combination of x, y and z (e.g. 'xyz' or 'z')");
+  }
+  if (bits == 0) e.fail("expected at least one axis");
+  return bits;
+}
+
+Material parseMaterial(const YamlEntry& spec) {
+  spec.expectMap({"name", "region", "density", "stress_unit", "young_modulus", "poisson_ratio",
+                  "young_modulus_longitudinal", "poisson_ratio_longitudinal", "lambda", "mu",
+                  "lambda_longitudinal", "mu_longitudinal"});
+  const double unit = spec.has("stress_unit") ? stressUnit(spec["stress_unit"]) : 1.0;
+  const double density = spec.positive("density", 1000.0);
+  auto poisson = [](const YamlEntry& e) {
+    const double nu = e.number();
+    if (nu <= -1.0 || nu >= 0.5) e.fail("expected a Poisson ratio in (-1, 0.5)");
+    return nu;
+  };
+  Material m;
+  if (spec.has("young_modulus")) {
+    if (spec.has("lambda") || spec.has("mu"))
+      spec.fail("give either young_modulus/poisson_ratio or lambda/mu, not both");
+    const double E = spec["young_modulus"].positive() * unit;
+    const double nu = poisson(spec["poisson_ratio"]);
+    const double EL = spec.has("young_modulus_longitudinal")
+                          ? spec["young_modulus_longitudinal"].positive() * unit : E;
+    const double nuL = spec.has("poisson_ratio_longitudinal")
+                           ? poisson(spec["poisson_ratio_longitudinal"]) : nu;
+    m = Material::transverselyIsotropic(E, nu, EL, nuL, density);
+  } else if (spec.has("mu")) {
+    m.lambda = spec["lambda"].number() * unit;
+    m.mu = spec["mu"].positive() * unit;
+    if (3.0 * m.lambda + 2.0 * m.mu <= 0.0) spec["lambda"].fail("expected 3 lambda + 2 mu > 0");
+    m.lambdaL = spec.has("lambda_longitudinal") ? spec["lambda_longitudinal"].number() * unit : m.lambda;
+    m.muL = spec.has("mu_longitudinal") ? spec["mu_longitudinal"].positive() * unit : m.mu;
+    m.density = density;
+  } else {
+    spec.fail("expected young_modulus and poisson_ratio, or lambda and mu");
+  }
+  return m;
+}
+
+// Tets whose centroid lies in the region: 'all' or {box: {min, max}}.
+std::vector<int> regionTets(const YamlEntry& region, const Mesh& mesh) {
+  std::vector<int> tets;
+  if (region.node().IsScalar()) {
+    region.choice({"all"});
+    for (int e = 0; e < mesh.numTets(); ++e) tets.push_back(e);
+    return tets;
+  }
+  region.expectMap({"box"});
+  const YamlEntry box = region["box"];
+  box.expectMap({"min", "max"});
+  const Eigen::Vector3d lo = box["min"].vector3(), hi = box["max"].vector3();
+  for (int e = 0; e < mesh.numTets(); ++e) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (int a : mesh.tets[e]) c += 0.25 * mesh.rest.col(a);
+    if ((c.array() >= lo.array()).all() && (c.array() <= hi.array()).all()) tets.push_back(e);
+  }
+  if (tets.empty()) region.fail("the region contains no tetrahedron");
+  return tets;
+}
+
+std::vector<Material> assignMaterials(const YamlEntry& list, Mesh& mesh) {
+  std::vector<Material> materials;
+  std::vector<int> assigned(mesh.numTets(), -1);
+  if (list.size() == 0) list.fail("expected at least one material");
+  for (size_t k = 0; k < list.size(); ++k) {
+    const YamlEntry spec = list[k];
+    materials.push_back(parseMaterial(spec));
+    if (!spec.has("region")) {
+      std::fill(assigned.begin(), assigned.end(), static_cast<int>(k));
+      continue;
+    }
+    for (int e : regionTets(spec["region"], mesh)) assigned[e] = static_cast<int>(k);
+  }
+  int unassigned = 0;
+  for (int id : assigned) unassigned += id < 0;
+  if (unassigned > 0)
+    list.fail(std::to_string(unassigned) + " tetrahedra are in no material's region");
+  mesh.material = assigned;
+  return materials;
+}
+
+void applyFibres(const YamlEntry& spec, Mesh& mesh) {
+  spec.expectMap({"direction"});
+  Eigen::Vector3d a0 = spec["direction"].vector3();
+  if (a0.norm() == 0.0) spec["direction"].fail("expected a non-zero direction");
+  a0.normalize();
+  // Complete a0 to a right-handed orthonormal frame.
+  const Eigen::Vector3d helper = std::abs(a0.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d a1 = a0.cross(helper).normalized();
+  Eigen::Matrix3d frame;
+  frame << a0, a1, a0.cross(a1);
+  mesh.fibreFrame.assign(mesh.numTets(), frame);
+}
+
+void applyBoundary(const YamlEntry& spec, System& system) {
+  spec.expectMap({"fixed", "controlled"});
+  if (spec.has("fixed")) {
+    const YamlEntry list = spec["fixed"];
+    for (size_t k = 0; k < list.size(); ++k) {
+      const YamlEntry item = list[k];
+      item.expectMap({"box", "plane", "nodes", "axes"});
+      const std::uint8_t axes = item.has("axes") ? parseAxes(item["axes"]) : std::uint8_t{kFixedAll};
+      for (int n : selectNodes(item, system.mesh)) system.mesh.nodeTags[n] |= axes;
+    }
+  }
+  if (spec.has("controlled")) {
+    const YamlEntry list = spec["controlled"];
+    for (size_t k = 0; k < list.size(); ++k) {
+      const YamlEntry item = list[k];
+      item.expectMap({"box", "plane", "nodes", "path"});
+      ControlledSet set;
+      set.nodes = selectNodes(item, system.mesh);
+      const YamlEntry path = item["path"];
+      if (path.size() == 0) path.fail("expected at least one [t, dx, dy, dz] key");
+      for (size_t i = 0; i < path.size(); ++i) {
+        const YamlEntry key = path[i];
+        if (key.size() != 4) key.fail("expected [t, dx, dy, dz]");
+        const double t = key[0].number();
+        if (!set.path.times.empty() && t <= set.path.times.back())
+          key[0].fail("expected times in increasing order");
+        set.path.times.push_back(t);
+        set.path.offsets.emplace_back(key[1].number(), key[2].number(), key[3].number());
+      }
+      system.controlled.push_back(std::move(set));
+    }
+  }
+  system.updateConstraints();
+}
+
+void applyLoads(const YamlEntry& spec, System& system) {
+  spec.expectMap({"gravity", "rayleigh_mass", "node_damping"});
+  if (spec.has("gravity"))
+    system.models.push_back(std::make_unique<GravityModel>(system.mass, spec["gravity"].vector3()));
+  if (spec.has("rayleigh_mass")) {
+    const YamlEntry e = spec["rayleigh_mass"];
+    const double alpha = e.number();
+    if (alpha < 0.0) e.fail("expected a non-negative mass-proportional damping (1/s)");
+    system.damping += alpha * system.mass;
+  }
+  if (spec.has("node_damping")) {
+    const YamlEntry e = spec["node_damping"];
+    const double gamma = e.number();
+    if (gamma < 0.0) e.fail("expected a non-negative damping per node (N s/m)");
+    system.damping.array() += gamma;
+  }
+}
+
+}  // namespace
+
+Scene loadScene(const std::string& path) {
+  YAML::Node root;
+  try {
+    std::ifstream probe(path);
+    if (!probe) throw InputError(path, 0, "cannot open the scene file");
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw InputError(path, e.mark.line >= 0 ? e.mark.line + 1 : 0, "not valid YAML: " + e.msg);
+  }
+  Scene scene;
+  scene.file = path;
+  const YamlEntry top(root, "", &scene.file);
+  top.expectMap({"name", "mesh", "materials", "fibres", "force_models", "integrator",
+                 "boundary", "loads", "run", "output"});
+  scene.name = top.has("name") ? top["name"].text() : fs::path(path).stem().string();
+
+  Mesh mesh = loadMesh(top["mesh"], fs::path(path).parent_path(), scene.notes);
+  if (top.has("fibres")) applyFibres(top["fibres"], mesh);
+  std::vector<Material> materials = assignMaterials(top["materials"], mesh);
+  scene.system = System(std::move(mesh), std::move(materials));
+  System& system = scene.system;
+
+  const YamlEntry models = top["force_models"];
+  if (models.size() == 0) models.fail("expected at least one force model");
+  for (size_t k = 0; k < models.size(); ++k)
+    system.models.push_back(makeForceModel(models[k], system));
+  if (top.has("loads")) applyLoads(top["loads"], system);
+  if (top.has("boundary")) applyBoundary(top["boundary"], system);
+  system.prescribe(0.0, system.state.x, system.state.v);
+
+  const YamlEntry integrator = top["integrator"];
+  scene.integrator = makeIntegrator(integrator);
+  if (scene.integrator->needsStiffness() && !system.hasStiffness()) {
+    std::string missing;
+    for (const auto& m : system.models)
+      if (!m->hasStiffness()) missing += std::string(missing.empty() ? "" : ", ") + m->name();
+    integrator["type"].fail(std::string(scene.integrator->name()) +
+                            " needs the stiffness of every force model; " + missing +
+                            " provides none");
+  }
+
+  if (top.has("run")) {
+    const YamlEntry run = top["run"];
+    run.expectMap({"frame_time", "duration"});
+    scene.frameTime = run.positive("frame_time", scene.frameTime);
+    scene.duration = run.positive("duration", scene.duration);
+  }
+  if (top.has("output")) {
+    const YamlEntry out = top["output"];
+    out.expectMap({"vtu_every", "csv"});
+    scene.output.vtuEvery = out.integerAtLeast("vtu_every", 0, 0);
+    scene.output.csv = out.boolean("csv", false);
+  }
+  return scene;
+}
+
+}  // namespace tt

@@ -1,0 +1,129 @@
+#include "tissue_trainer/core/scene/scene_runner.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "tissue_trainer/core/mesh/mesh_io.h"
+
+namespace tt {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string frameFileName(const std::string& name, int frame) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "_%06d.vtu", frame);
+  return name + buffer;
+}
+
+void writeCsvHeader(std::ofstream& csv) {
+  csv << "frame,time,kinetic_energy,elastic_energy,volume_ratio,max_displacement,substeps,"
+         "rejected,newton_iterations,linear_iterations,error_estimate,step_wall_s,ok\n";
+}
+
+void writeCsvLine(std::ofstream& csv, const FrameLog& f) {
+  char line[512];
+  std::snprintf(line, sizeof line, "%d,%.9g,%.9g,%.9g,%.12g,%.9g,%d,%d,%d,%d,%.6g,%.6g,%d\n",
+                f.frame, f.time, f.kineticEnergy, f.elasticEnergy, f.volumeRatio,
+                f.maxDisplacement, f.step.substeps, f.step.rejected, f.step.newtonIterations,
+                f.step.linearIterations, f.step.errorEstimate, f.step.wallSeconds, f.step.ok);
+  csv << line;
+}
+
+}  // namespace
+
+FrameLog measureFrame(const System& system, int frame, const StepReport& step) {
+  FrameLog log;
+  log.frame = frame;
+  log.time = system.state.t;
+  log.kineticEnergy = system.kineticEnergy(system.state.v);
+  log.elasticEnergy = system.potentialEnergy(system.state.x);
+  const Eigen::Map<const Eigen::Matrix3Xd> x(system.state.x.data(), 3, system.numNodes());
+  double restVolume = 0.0, volume = 0.0;
+  for (const Tet& t : system.mesh.tets) {
+    restVolume += tetVolume(system.mesh.rest, t);
+    volume += tetVolume(x, t);
+  }
+  log.volumeRatio = volume / restVolume;
+  log.maxDisplacement = (x - system.mesh.rest).colwise().norm().maxCoeff();
+  log.step = step;
+  return log;
+}
+
+RunSummary runScene(Scene& scene, const RunOptions& options) {
+  RunSummary summary;
+  const double duration = options.duration >= 0.0 ? options.duration : scene.duration;
+  const int frames = static_cast<int>(std::ceil(duration / scene.frameTime - 1e-9));
+  const bool writeFiles = !options.outDir.empty();
+  std::ofstream csv, pvd;
+  if (writeFiles) {
+    fs::create_directories(options.outDir);
+    if (scene.output.csv) {
+      const std::string path = (fs::path(options.outDir) / (scene.name + ".csv")).string();
+      csv.open(path);
+      if (!csv) throw InputError(path, 0, "cannot write the CSV log");
+      writeCsvHeader(csv);
+      summary.files.push_back(path);
+    }
+  }
+  std::vector<std::pair<double, std::string>> vtuFiles;
+  auto writeFrame = [&](int frame) {
+    if (!writeFiles || scene.output.vtuEvery <= 0 || frame % scene.output.vtuEvery != 0) return;
+    const std::string name = frameFileName(scene.name, frame);
+    Eigen::VectorXd force;
+    scene.system.computeForce(scene.system.state.x, scene.system.state.v, force);
+    VtuFields fields;
+    fields.positions = &scene.system.state.x;
+    fields.velocity = &scene.system.state.v;
+    fields.force = &force;
+    writeVtu((fs::path(options.outDir) / name).string(), scene.system.mesh, fields);
+    vtuFiles.emplace_back(scene.system.state.t, name);
+  };
+
+  std::vector<double> stepWall;
+  const auto start = std::chrono::steady_clock::now();
+  writeFrame(0);
+  for (int frame = 1; frame <= frames; ++frame) {
+    const StepReport step = scene.integrator->advance(scene.system, scene.frameTime);
+    const FrameLog log = measureFrame(scene.system, frame, step);
+    stepWall.push_back(step.wallSeconds);
+    if (csv.is_open()) writeCsvLine(csv, log);
+    writeFrame(frame);
+    summary.frames = frame;
+    summary.last = log;
+    if (options.onFrame) options.onFrame(log);
+    if (!step.ok) {
+      summary.ok = false;
+      summary.failure = "frame " + std::to_string(frame) + ": " + step.failure;
+      break;
+    }
+  }
+  summary.wallSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.simulatedTime = scene.system.state.t;
+  if (!stepWall.empty()) {
+    std::vector<double> sorted = stepWall;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    summary.stepWallMedian = sorted[sorted.size() / 2];
+    summary.stepWallMax = *std::max_element(stepWall.begin(), stepWall.end());
+  }
+  if (!vtuFiles.empty()) {
+    const std::string path = (fs::path(options.outDir) / (scene.name + ".pvd")).string();
+    pvd.open(path);
+    pvd << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n"
+           "  <Collection>\n";
+    for (const auto& [time, name] : vtuFiles)
+      pvd << "    <DataSet timestep=\"" << time << "\" file=\"" << name << "\"/>\n";
+    pvd << "  </Collection>\n</VTKFile>\n";
+    summary.files.push_back(path);
+    for (const auto& entry : vtuFiles)
+      summary.files.push_back((fs::path(options.outDir) / entry.second).string());
+  }
+  return summary;
+}
+
+}  // namespace tt

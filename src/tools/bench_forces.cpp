@@ -1,0 +1,124 @@
+// Force-evaluation throughput of the seed-000 tet models on box grids (6 tets per cell),
+// single thread: million tets per second (median of repeats) beside the maximum relative
+// difference of each path's forces against the edge_length fast path, plus the stiffness
+// assembly of the fast path.
+//   bench_forces [repeats=7]
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "tissue_trainer/core/model/edge_length.h"
+#include "tissue_trainer/core/model/stvk_displacement.h"
+#include "tissue_trainer/core/model/tensor_mass.h"
+
+namespace {
+
+using namespace tt;
+using Clock = std::chrono::steady_clock;
+
+// cells^3 hexes of 1 cm, each split into 6 tets around its main diagonal, fibres along x.
+Mesh boxGrid6(int cx, int cy, int cz, double h) {
+  Mesh m;
+  auto id = [&](int i, int j, int k) { return i + (cx + 1) * (j + (cy + 1) * k); };
+  m.rest.resize(3, (cx + 1) * (cy + 1) * (cz + 1));
+  for (int k = 0; k <= cz; ++k)
+    for (int j = 0; j <= cy; ++j)
+      for (int i = 0; i <= cx; ++i) m.rest.col(id(i, j, k)) = h * Eigen::Vector3d(i, j, k);
+  const int paths[6][2] = {{1, 3}, {1, 5}, {2, 3}, {2, 6}, {4, 5}, {4, 6}};
+  for (int k = 0; k < cz; ++k)
+    for (int j = 0; j < cy; ++j)
+      for (int i = 0; i < cx; ++i) {
+        auto corner = [&](int b) { return id(i + (b & 1), j + ((b >> 1) & 1), k + ((b >> 2) & 1)); };
+        for (const auto& p : paths) {
+          Tet t = {corner(0), corner(p[0]), corner(p[1]), corner(7)};
+          if (tetVolume(m.rest, t) < 0) std::swap(t[1], t[2]);
+          m.tets.push_back(t);
+        }
+      }
+  m.fillDefaults();
+  return m;
+}
+
+// Seconds per call, median over repeats; each repeat runs enough calls to last ~0.1 s.
+double medianSeconds(const std::function<void()>& run, int repeats) {
+  auto t0 = Clock::now();
+  run();
+  const double once = std::chrono::duration<double>(Clock::now() - t0).count();
+  const int calls = std::max(1, static_cast<int>(0.1 / std::max(once, 1e-9)));
+  std::vector<double> times;
+  for (int r = 0; r < repeats; ++r) {
+    t0 = Clock::now();
+    for (int c = 0; c < calls; ++c) run();
+    times.push_back(std::chrono::duration<double>(Clock::now() - t0).count() / calls);
+  }
+  std::nth_element(times.begin(), times.begin() + repeats / 2, times.end());
+  return times[repeats / 2];
+}
+
+double maxRelDiff(const Eigen::VectorXd& a, const Eigen::VectorXd& ref) {
+  return (a - ref).lpNorm<Eigen::Infinity>() / ref.lpNorm<Eigen::Infinity>();
+}
+
+void benchGrid(int cells, int repeats) {
+  const double h = 0.01;
+  Mesh mesh = boxGrid6(cells, cells, cells, h);
+  const std::vector<Material> mats = {Material::transverselyIsotropic(3e4, 0.3, 1.2e5, 0.35, 1060)};
+  // A 5% stretch along the fibre, a 15 degree turn and a 1% random jitter.
+  std::mt19937 rng(1);
+  std::normal_distribution<double> noise(0.0, 0.01 * h);
+  const Eigen::Matrix3d F = Eigen::AngleAxisd(0.26, Eigen::Vector3d(1, 1, 0).normalized()) *
+                            Eigen::Vector3d(1.05, 1.0, 1.0).asDiagonal();
+  Eigen::VectorXd x(3 * mesh.numNodes());
+  for (int i = 0; i < mesh.numNodes(); ++i)
+    x.segment<3>(3 * i) = F * mesh.rest.col(i) + Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+  const Eigen::VectorXd v = Eigen::VectorXd::Zero(x.size());
+
+  struct Entry {
+    std::string label;
+    std::unique_ptr<ForceModel> model;
+  };
+  std::vector<Entry> entries;
+  entries.push_back({"edge_length fast", std::make_unique<EdgeLengthModel>(mesh, mats, EdgeLengthPath::kFast)});
+  entries.push_back({"edge_length literal (Eq 31)", std::make_unique<EdgeLengthModel>(mesh, mats, EdgeLengthPath::kLiteral)});
+  entries.push_back({"stvk_displacement correct", std::make_unique<StvkDisplacementModel>(mesh, mats, AlphaSign::kCorrect)});
+  entries.push_back({"stvk_displacement paper_literal", std::make_unique<StvkDisplacementModel>(mesh, mats, AlphaSign::kPaperLiteral)});
+  entries.push_back({"tensor_mass (linear)", std::make_unique<TensorMassModel>(mesh, mats)});
+
+  const double mtets = mesh.numTets() * 1e-6;
+  std::printf("\n%d tets, %d nodes (box %d^3 cells, 6 tets/cell), stretch+rotation+jitter\n",
+              mesh.numTets(), mesh.numNodes(), cells);
+  std::printf("  %-34s %12s %12s %14s\n", "model / path", "ms/eval", "Mtets/s", "max rel diff");
+  Eigen::VectorXd reference = Eigen::VectorXd::Zero(x.size());
+  entries[0].model->addForce(x, v, reference);
+  Eigen::VectorXd f(x.size());
+  for (const Entry& e : entries) {
+    const double s = medianSeconds([&] { f.setZero(); e.model->addForce(x, v, f); }, repeats);
+    std::printf("  %-34s %12.3f %12.2f %14.2e\n", e.label.c_str(), 1e3 * s, mtets / s,
+                maxRelDiff(f, reference));
+  }
+  SparsePattern pattern(mesh.numNodes(), mesh.tets);
+  SparseMatrix K = pattern.zeroMatrix();
+  const double s = medianSeconds([&] {
+    K.coeffs().setZero();
+    entries[0].model->addStiffness(x, 1.0, pattern, K);
+  }, repeats);
+  std::printf("  %-34s %12.3f %12.2f %14s\n", "stiffness assembly (analytic)", 1e3 * s, mtets / s, "-");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int repeats = argc > 1 ? std::max(1, std::atoi(argv[1])) : 7;
+  std::printf("bench_forces: single thread, median of %d repeats\n", repeats);
+  benchGrid(12, repeats);  // 10368 tets
+  benchGrid(26, repeats);  // 105456 tets
+  return 0;
+}

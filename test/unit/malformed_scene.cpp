@@ -1,0 +1,117 @@
+// Bad scene files: each gives one InputError naming the file, the line and the key path.
+// (Built again under AddressSanitizer + UBSan by scripts/test.)
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "tissue_trainer/core/scene/scene.h"
+
+namespace tt {
+namespace {
+
+namespace fs = std::filesystem;
+
+const char* const kGoodScene = R"(name: block
+mesh:
+  generator: box
+  nodes: [3, 3, 3]
+  size: [0.02, 0.02, 0.02]
+materials:
+  - young_modulus: 3
+    stress_unit: kPa
+    poisson_ratio: 0.4
+    density: 1000
+force_models:
+  - type: edge_length
+integrator:
+  type: backward_euler
+  substeps: 1
+boundary:
+  fixed:
+    - plane: {point: [0, 0, 0], normal: [0, 0, 1]}
+loads:
+  gravity: [0, 0, -9.81]
+run: {frame_time: 0.01, duration: 0.05}
+)";
+
+std::string writeScene(const std::string& name, const std::string& text) {
+  const fs::path dir = fs::temp_directory_path() / "tt_scene_tests";
+  fs::create_directories(dir);
+  const fs::path path = dir / name;
+  std::ofstream(path) << text;
+  return path.string();
+}
+
+// Replaces the first occurrence of `from` in the good scene.
+std::string edited(const std::string& from, const std::string& to) {
+  std::string text = kGoodScene;
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+struct BadScene {
+  const char* what;
+  std::string text;
+  long line;              // expected line (1-based); 0 = no line
+  const char* phrase;     // must appear in the message
+};
+
+TEST(MalformedScene, GoodSceneLoads) {
+  const Scene scene = loadScene(writeScene("good.yaml", kGoodScene));
+  EXPECT_EQ(scene.system.numNodes(), 27);
+  EXPECT_EQ(scene.system.models.size(), 2u);  // edge_length + gravity (listed under loads)
+  EXPECT_EQ(scene.system.constrainedDofs.size(), 27u);  // 9 nodes on z = 0, all axes
+  EXPECT_DOUBLE_EQ(scene.system.materials[0].mu, 3000.0 / (2 * 1.4));
+}
+
+TEST(MalformedScene, EachErrorNamesFileLineAndKey) {
+  const std::vector<BadScene> cases = {
+      {"unknown top-level key", edited("run:", "rn:"), 24, "unknown key 'rn'"},
+      {"typo in a nested key", edited("poisson_ratio", "poison_ratio"), 9, "materials[0].poison_ratio"},
+      {"non-numeric modulus", edited("young_modulus: 3", "young_modulus: three"), 7, "expected a finite number"},
+      {"negative modulus", edited("young_modulus: 3", "young_modulus: -3"), 7, "expected a positive number"},
+      {"Poisson ratio 0.5", edited("poisson_ratio: 0.4", "poisson_ratio: 0.5"), 9, "(-1, 0.5)"},
+      {"Poisson ratio -1", edited("poisson_ratio: 0.4", "poisson_ratio: -1"), 9, "(-1, 0.5)"},
+      {"missing mesh file", edited("generator: box", "file: no_such.msh"), 3, "not found"},
+      {"unknown generator", edited("generator: box", "generator: sphere"), 3, "box, cantilever, spindle"},
+      {"two node counts", edited("[3, 3, 3]", "[3, 3]"), 4, "3 node counts"},
+      {"empty node set", edited("point: [0, 0, 0]", "point: [0, 0, -1]"), 19, "matches no node"},
+      {"unknown model", edited("type: edge_length", "type: edge_lenght"), 12, "force_models[0].type"},
+      {"unknown integrator", edited("type: backward_euler", "type: rk4"), 14, "integrator.type"},
+      {"zero substeps", edited("substeps: 1", "substeps: 0"), 15, "integer >= 1"},
+      {"missing force models", edited("force_models:\n  - type: edge_length\n", ""), 0, "missing required key 'force_models'"},
+      {"bad axes", edited("normal: [0, 0, 1]}", "normal: [0, 0, 1]}\n      axes: xq"), 20, "combination of x, y and z"},
+      {"gravity not a vector", edited("[0, 0, -9.81]", "down"), 22, "list of 3 numbers"},
+      {"infinite number", edited("density: 1000", "density: .inf"), 10, "finite number"},
+      {"invalid YAML", edited("name: block", "name: [block"), 0, "not valid YAML"},
+      {"empty file", "", 0, "expected a map"},
+      {"binary garbage", std::string("\x01\x02\xff\xfe{{[[\x00\x7f", 10), 0, ""},
+  };
+  for (const BadScene& c : cases) {
+    const std::string path = writeScene("bad.yaml", c.text);
+    try {
+      loadScene(path);
+      ADD_FAILURE() << c.what << ": no error";
+    } catch (const InputError& e) {
+      const std::string message = e.what();
+      EXPECT_EQ(e.file(), path) << c.what;
+      if (c.line > 0) EXPECT_EQ(e.line(), c.line) << c.what << ": " << message;
+      EXPECT_NE(message.find(c.phrase), std::string::npos) << c.what << ": " << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos) << c.what << ": one line";
+    }
+  }
+}
+
+TEST(MalformedScene, MissingSceneFileIsOneClearError) {
+  try {
+    loadScene("/nonexistent/scene.yaml");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "/nonexistent/scene.yaml: cannot open the scene file");
+  }
+}
+
+}  // namespace
+}  // namespace tt

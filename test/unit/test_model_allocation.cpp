@@ -1,0 +1,84 @@
+// The per-element loops of the tet models (force, energy, stiffness assembly) allocate
+// nothing: global operator new is counted while a model evaluates.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+
+#include "model_test_util.h"
+#include "tissue_trainer/core/model/edge_length.h"
+#include "tissue_trainer/core/model/gravity.h"
+#include "tissue_trainer/core/model/stvk_displacement.h"
+#include "tissue_trainer/core/model/tensor_mass.h"
+
+// malloc is interposed (operator new and Eigen's aligned_malloc both end in it) and forwards
+// to glibc; memory is still released by glibc's free. Not under AddressSanitizer, which owns
+// malloc itself.
+#if defined(__SANITIZE_ADDRESS__)
+#define TT_COUNT_MALLOC 0
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define TT_COUNT_MALLOC 0
+#endif
+#endif
+#if !defined(TT_COUNT_MALLOC) && defined(__GLIBC__)
+#define TT_COUNT_MALLOC 1
+#endif
+
+namespace {
+std::atomic<bool> countingAllocations{false};
+std::atomic<long> allocationCount{0};
+}  // namespace
+
+#if TT_COUNT_MALLOC
+extern "C" void* __libc_malloc(std::size_t size);
+extern "C" void* malloc(std::size_t size) {
+  if (countingAllocations.load(std::memory_order_relaxed)) ++allocationCount;
+  return __libc_malloc(size);
+}
+#endif
+
+namespace tt {
+namespace {
+
+using namespace testutil;
+
+long allocationsDuring(const std::function<void()>& run) {
+  allocationCount = 0;
+  countingAllocations = true;
+  run();
+  countingAllocations = false;
+  return allocationCount;
+}
+
+TEST(ModelAllocation, EvaluationLoopsDoNotAllocate) {
+#if !TT_COUNT_MALLOC
+  GTEST_SKIP() << "malloc is not countable in this build";
+#endif
+  std::mt19937 rng(51);
+  Mesh m = boxMesh(3, 3, 2, 0.01, rng);
+  const auto mats = testMaterials();
+  std::vector<std::unique_ptr<ForceModel>> models;
+  models.push_back(std::make_unique<EdgeLengthModel>(m, mats, EdgeLengthPath::kFast));
+  models.push_back(std::make_unique<EdgeLengthModel>(m, mats, EdgeLengthPath::kLiteral));
+  models.push_back(std::make_unique<StvkDisplacementModel>(m, mats, AlphaSign::kCorrect));
+  models.push_back(std::make_unique<StvkDisplacementModel>(m, mats, AlphaSign::kPaperLiteral));
+  models.push_back(std::make_unique<TensorMassModel>(m, mats));
+  models.push_back(std::make_unique<GravityModel>(Eigen::VectorXd::Ones(3 * m.numNodes()),
+                                                  Eigen::Vector3d(0, 0, -9.81)));
+  const Eigen::VectorXd x = perturbed(m, 0.001, rng), v = Eigen::VectorXd::Zero(x.size());
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(x.size());
+  SparsePattern pattern(m.numNodes(), m.tets);
+  SparseMatrix K = pattern.zeroMatrix();
+  // The counter itself works.
+  EXPECT_GT(allocationsDuring([&] { Eigen::VectorXd copy = x; f += copy; }), 0);
+  for (const auto& model : models) {
+    EXPECT_EQ(allocationsDuring([&] { model->addForce(x, v, f); }), 0) << model->name();
+    EXPECT_EQ(allocationsDuring([&] { model->energy(x); }), 0) << model->name();
+    EXPECT_EQ(allocationsDuring([&] { model->addStiffness(x, 0.5, pattern, K); }), 0)
+        << model->name();
+  }
+}
+
+}  // namespace
+}  // namespace tt
