@@ -20,6 +20,7 @@ using ComplexVector = Eigen::VectorXcd;
 constexpr double kRoundoff = std::numeric_limits<double>::epsilon();
 // A Newton contraction below this lets the next step keep the Jacobian.
 constexpr double kThetaReuse = 1e-3;
+constexpr double kSimplifiedTheta = 0.3;
 
 struct NewtonOutcome {
   bool converged = false;
@@ -668,6 +669,11 @@ StepReport RadauIIA::advance(System& system, double frameTime) {
     w.acceptedStep = h;
     w.acceptedError = std::max(1e-2, error);
     if (rejectedLast) proposal = std::min(proposal, h);
+    if (simplified && newton.theta > kThetaReuse) {
+      // Without the force terms the Newton contraction grows like h^2: cap the growth so the
+      // next step still contracts by about kSimplifiedTheta.
+      proposal = std::min(proposal, h * std::sqrt(kSimplifiedTheta / newton.theta));
+    }
     if (last && h < planned) proposal = std::max(proposal, planned);
     // Keep h (and the factorization) for small increases when the Jacobian stays.
     const double growth = proposal / h;
