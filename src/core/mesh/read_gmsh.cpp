@@ -126,6 +126,8 @@ void readElementsV1V2(GmshState& g, const std::string& endTag) {
       s.requireAtLeast(5, "element number, type, 2 region tags and node count");
       s.toInt(s[0], "element number");
       const int type = static_cast<int>(s.toInt(s[1], 1, 1000, "element type"));
+      s.toInt(s[2], "physical region");
+      s.toInt(s[3], "elementary region");
       const int count = static_cast<int>(s.toInt(s[4], 1, 1000, "node count"));
       s.requireTokens(5 + count, "element with " + std::to_string(count) + " nodes");
       tokens.assign(s.tokens() + 5, s.tokens() + 5 + count);
@@ -141,6 +143,7 @@ void readElementsV1V2(GmshState& g, const std::string& endTag) {
       s.requireTokens(3 + tags + count, "element of type " + std::to_string(type) + " with " +
                                             std::to_string(tags) + " tags and " +
                                             std::to_string(count) + " nodes");
+      for (int k = 0; k < tags; ++k) s.toInt(s[3 + k], "element tag");
       tokens.assign(s.tokens() + 3 + tags, s.tokens() + 3 + tags + count);
       addElement(g, type, tokens.data(), count);
     }
