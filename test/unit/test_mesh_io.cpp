@@ -290,11 +290,18 @@ TEST(MeshIo, ObjRoundTripOfTheLiverSurface) {
   EXPECT_EQ(back.triangles, s.triangles);
 }
 
-TEST(MeshIo, RealObjFilesAreClosedSurfaces) {
+TEST(MeshIo, RealObjFilesAreClosedOutwardSurfaces) {
+  // Euler characteristic V - E + F = 2 with E = 3F/2 for a closed genus-0 surface.
   const SurfaceMesh s = readObj(meshPath("liver2.obj"));
+  EXPECT_EQ(s.vertices.cols(), 1170);
   EXPECT_EQ(s.triangles.size(), 2336u);
+  // Closed and outward, enclosing about the volume of the tets of the same organ.
+  const double tetVolumeOfLiver2 = totalTetVolume(readMesh(meshPath("liver2.msh")));
+  EXPECT_NEAR(checkClosedSurface(s.vertices, s.triangles), tetVolumeOfLiver2, 0.05 * tetVolumeOfLiver2);
   const SurfaceMesh smooth = readObj(meshPath("liver-smooth.obj"));
+  EXPECT_EQ(smooth.vertices.cols(), 2194);
   EXPECT_EQ(smooth.triangles.size(), 4384u);
+  EXPECT_GT(checkClosedSurface(smooth.vertices, smooth.triangles), 30.0);
 }
 
 // Extracts the values of the DataArray with the given Name from a written VTU text.

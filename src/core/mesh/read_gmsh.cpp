@@ -11,7 +11,6 @@ namespace {
 
 using meshio::Scanner;
 
-constexpr std::size_t kMinLineBytes = 8;  // shortest possible node or element line
 constexpr long long kMaxTags = 1000;
 
 bool isSectionLine(const Scanner& s) { return s[0].size() > 0 && s[0][0] == '$'; }
@@ -45,11 +44,11 @@ void requireEnd(Scanner& s, const std::string& endTag, const std::string& after)
     s.fail("expected " + endTag + " after " + after + ", got " + meshio::quoted(s.line()));
 }
 
-long long readCountLine(Scanner& s, const std::string& what) {
+long long readCountLine(Scanner& s, const std::string& what, const std::string& items) {
   s.requireLine(what);
   s.requireTokens(1, what);
   const long long n = s.toInt(s[0], what);
-  s.checkCount(n, kMinLineBytes, what);
+  s.checkCount(n, items);
   return n;
 }
 
@@ -104,7 +103,7 @@ void readFormat(GmshState& g) {
 
 void readNodesV1V2(GmshState& g, const std::string& endTag) {
   Scanner& s = g.scanner;
-  const long long n = readCountLine(s, "node count");
+  const long long n = readCountLine(s, "node count", "nodes");
   for (long long i = 0; i < n; ++i) {
     requireDataLine(s, "node", i, n);
     if (s.size() != 4) {
@@ -118,7 +117,7 @@ void readNodesV1V2(GmshState& g, const std::string& endTag) {
 
 void readElementsV1V2(GmshState& g, const std::string& endTag) {
   Scanner& s = g.scanner;
-  const long long n = readCountLine(s, "element count");
+  const long long n = readCountLine(s, "element count", "elements");
   std::vector<std::string_view> tokens;
   for (long long i = 0; i < n; ++i) {
     requireDataLine(s, "element", i, n);
@@ -127,6 +126,8 @@ void readElementsV1V2(GmshState& g, const std::string& endTag) {
       s.requireAtLeast(5, "element number, type, 2 region tags and node count");
       s.toInt(s[0], "element number");
       const int type = static_cast<int>(s.toInt(s[1], 1, 1000, "element type"));
+      s.toInt(s[2], "physical region");
+      s.toInt(s[3], "elementary region");
       const int count = static_cast<int>(s.toInt(s[4], 1, 1000, "node count"));
       s.requireTokens(5 + count, "element with " + std::to_string(count) + " nodes");
       tokens.assign(s.tokens() + 5, s.tokens() + 5 + count);
@@ -142,6 +143,7 @@ void readElementsV1V2(GmshState& g, const std::string& endTag) {
       s.requireTokens(3 + tags + count, "element of type " + std::to_string(type) + " with " +
                                             std::to_string(tags) + " tags and " +
                                             std::to_string(count) + " nodes");
+      for (int k = 0; k < tags; ++k) s.toInt(s[3 + k], "element tag");
       tokens.assign(s.tokens() + 3 + tags, s.tokens() + 3 + tags + count);
       addElement(g, type, tokens.data(), count);
     }
@@ -153,10 +155,11 @@ void readNodesV4(GmshState& g) {
   Scanner& s = g.scanner;
   s.requireLine("node block header");
   s.requireTokens(g.layout41 ? 4 : 2, "entity block count and node count");
+  const long headerLine = s.lineNo();
   const long long blocks = s.toInt(s[0], "entity block count");
   const long long total = s.toInt(s[1], "node count");
-  s.checkCount(blocks, kMinLineBytes, "node blocks");
-  s.checkCount(total, kMinLineBytes, "nodes");
+  s.checkCount(blocks, "node blocks");
+  s.checkCount(total, "nodes");
   long long read = 0;
   for (long long b = 0; b < blocks; ++b) {
     requireDataLine(s, "node block", b, blocks);
@@ -164,7 +167,7 @@ void readNodesV4(GmshState& g) {
     const int dim = static_cast<int>(s.toInt(s[g.layout41 ? 0 : 1], 0, 3, "entity dimension"));
     const bool parametric = s.toInt(s[2], 0, 1, "parametric flag") == 1;
     const long long count = s.toInt(s[3], "node count of the block");
-    s.checkCount(count, kMinLineBytes, "nodes in the block");
+    s.checkCount(count, "nodes in the block");
     if (count > total - read) s.fail("expected at most " + std::to_string(total - read) + " more nodes, block declares " + std::to_string(count));
     const std::size_t values = 3 + (parametric ? dim : 0);
     if (g.layout41) {
@@ -192,7 +195,7 @@ void readNodesV4(GmshState& g) {
     }
     read += count;
   }
-  if (read != total) s.fail("expected " + std::to_string(total) + " nodes in the blocks, got " + std::to_string(read));
+  if (read != total) s.failAt(headerLine, "expected " + std::to_string(total) + " nodes in the blocks, got " + std::to_string(read));
   requireEnd(s, "$EndNodes", std::to_string(total) + " nodes");
 }
 
@@ -200,10 +203,11 @@ void readElementsV4(GmshState& g) {
   Scanner& s = g.scanner;
   s.requireLine("element block header");
   s.requireTokens(g.layout41 ? 4 : 2, "entity block count and element count");
+  const long headerLine = s.lineNo();
   const long long blocks = s.toInt(s[0], "entity block count");
   const long long total = s.toInt(s[1], "element count");
-  s.checkCount(blocks, kMinLineBytes, "element blocks");
-  s.checkCount(total, 4, "elements");
+  s.checkCount(blocks, "element blocks");
+  s.checkCount(total, "elements");
   long long read = 0;
   std::vector<std::string_view> tokens;
   for (long long b = 0; b < blocks; ++b) {
@@ -213,7 +217,7 @@ void readElementsV4(GmshState& g) {
     const int nodes = meshio::gmshNodesPerElement(type);
     if (nodes == 0) s.fail("expected a known element type, got " + std::to_string(type));
     const long long count = s.toInt(s[3], "element count of the block");
-    s.checkCount(count, 4, "elements in the block");
+    s.checkCount(count, "elements in the block");
     if (count > total - read) s.fail("expected at most " + std::to_string(total - read) + " more elements, block declares " + std::to_string(count));
     for (long long i = 0; i < count; ++i) {
       requireDataLine(s, "element", i, count);
@@ -224,7 +228,7 @@ void readElementsV4(GmshState& g) {
     }
     read += count;
   }
-  if (read != total) s.fail("expected " + std::to_string(total) + " elements in the blocks, got " + std::to_string(read));
+  if (read != total) s.failAt(headerLine, "expected " + std::to_string(total) + " elements in the blocks, got " + std::to_string(read));
   requireEnd(s, "$EndElements", std::to_string(total) + " elements");
 }
 

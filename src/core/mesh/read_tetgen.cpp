@@ -9,8 +9,6 @@ namespace {
 
 using meshio::Scanner;
 
-constexpr std::size_t kMinLineBytes = 8;
-
 std::string stripTetgenExtension(const std::string& path) {
   for (const char* ext : {".node", ".ele"}) {
     const std::string e(ext);
@@ -34,10 +32,10 @@ TetgenNodes readNodeFile(const std::string& path) {
   s.requireTokens(4, "node header: point count, dimension, attribute count, marker flag");
   TetgenNodes nodes;
   nodes.count = s.toInt(s[0], "point count");
-  s.checkCount(nodes.count, kMinLineBytes, "points");
   s.toInt(s[1], 3, 3, "dimension");
   nodes.attributes = s.toInt(s[2], 0, 1000, "attribute count");
   const long long markers = s.toInt(s[3], 0, 1, "boundary marker flag");
+  s.checkCount(nodes.count, "points");
   const std::size_t values = static_cast<std::size_t>(4 + nodes.attributes + markers);
   for (long long i = 0; i < nodes.count; ++i) {
     s.requireLine("point " + std::to_string(i + 1) + " of " + std::to_string(nodes.count));
@@ -62,10 +60,10 @@ void readEleFile(const std::string& path, const TetgenNodes& nodes, Mesh& mesh, 
   s.requireLine("element header (tet count, nodes per tet, region flag)");
   s.requireTokens(3, "element header: tet count, nodes per tet, region flag");
   const long long count = s.toInt(s[0], "tet count");
-  s.checkCount(count, kMinLineBytes, "tets");
   const long long perTet = s.toInt(s[1], 4, 10, "nodes per tet (4 or 10)");
   if (perTet != 4 && perTet != 10) s.fail("expected nodes per tet 4 or 10, got " + std::to_string(perTet));
   const long long region = s.toInt(s[2], 0, 1, "region attribute flag");
+  s.checkCount(count, "tets");
   const long long lo = nodes.firstIndex, hi = nodes.firstIndex + nodes.count - 1;
   long long raw[10];
   for (long long i = 0; i < count; ++i) {

@@ -43,7 +43,7 @@ void readHeader(Scanner& s) {
 
 void readPoints(Scanner& s, meshio::NodeBuffer& points) {
   const long long n = s.toInt(s.requireToken("point count"), "point count");
-  s.checkCount(n, 6, "points");
+  s.checkCount(n, "points");
   s.requireToken("point data type");
   for (long long i = 0; i < n; ++i) {
     double xyz[3];
@@ -60,8 +60,8 @@ int readNodeIndex(Scanner& s, int numPoints, long long cell) {
 }
 
 void readCellsClassic(Scanner& s, long long n, long long size, int numPoints, VtkCells& cells) {
-  s.checkCount(size, 2, "cell list values");
-  s.checkCount(n, 2, "cells");
+  s.checkCount(size, "cell list values");
+  s.checkCount(n, "cells");
   for (long long c = 0; c < n; ++c) {
     const std::string_view first = s.requireToken("node count of cell " + std::to_string(c));
     cells.lines.push_back(s.lineNo());
@@ -77,8 +77,8 @@ void readCellsClassic(Scanner& s, long long n, long long size, int numPoints, Vt
 
 void readCellsOffsets(Scanner& s, long long numOffsets, long long numConnectivity, int numPoints,
                       VtkCells& cells) {
-  s.checkCount(numOffsets, 2, "offsets");
-  s.checkCount(numConnectivity, 2, "connectivity values");
+  s.checkCount(numOffsets, "offsets");
+  s.checkCount(numConnectivity, "connectivity values");
   s.requireToken("OFFSETS data type");
   std::vector<long long> offsets;
   for (long long i = 0; i < numOffsets; ++i) {

@@ -110,6 +110,7 @@ class XmlScanner {
       const char quote = text_[pos_];
       const std::size_t close = text_.find(quote, pos_ + 1);
       if (close == std::string::npos) fail("expected a closing quote for attribute " + key);
+      if (element.attribute(key.c_str())) fail("expected attribute " + key + " once in <" + element.name + ">");
       element.attributes.emplace_back(key, text_.substr(pos_ + 1, close - pos_ - 1));
       advanceTo(close + 1);
     }
@@ -222,7 +223,7 @@ Mesh readVtu(const std::string& path, ReadNotes* notes) {
 
   const XmlElement& pointsArray = r.requireChild(r.requireChild(piece, "Points"), "DataArray");
   Scanner ps = r.arrayScanner(pointsArray, 3);
-  ps.checkCount(numPoints, 6, "points");
+  ps.checkCount(numPoints, "points");
   meshio::NodeBuffer points;
   for (long long i = 0; i < numPoints; ++i) {
     double xyz[3];
@@ -235,7 +236,7 @@ Mesh readVtu(const std::string& path, ReadNotes* notes) {
   const XmlElement& cellsElement = r.requireChild(piece, "Cells");
   const XmlElement& offsetsArray = r.requireChild(cellsElement, "DataArray", "offsets");
   Scanner os = r.arrayScanner(offsetsArray, 1);
-  os.checkCount(numCells, 2, "cells");
+  os.checkCount(numCells, "cells");
   std::vector<long long> offsets{0};
   for (long long c = 0; c < numCells; ++c)
     offsets.push_back(os.toInt(os.requireToken("offset of cell " + std::to_string(c)), offsets.back(),
@@ -244,7 +245,7 @@ Mesh readVtu(const std::string& path, ReadNotes* notes) {
 
   const XmlElement& connectivityArray = r.requireChild(cellsElement, "DataArray", "connectivity");
   Scanner cs = r.arrayScanner(connectivityArray, 1);
-  cs.checkCount(offsets.back(), 2, "connectivity values");
+  cs.checkCount(offsets.back(), "connectivity values");
   std::vector<int> connectivity;
   std::vector<long> lines;
   for (long long c = 0; c < numCells; ++c) {

@@ -67,7 +67,7 @@ Scanner::Scanner(const std::string& path, const std::string& text, char commentC
 Scanner::Scanner(const std::string& path, const std::string& text, std::size_t begin,
                  std::size_t end, long firstLine, char commentChar)
     : path_(path), text_(text), pos_(begin), end_(end), nextLineNo_(firstLine),
-      comment_(commentChar) {}
+      line_(firstLine), comment_(commentChar) {}
 
 void Scanner::split(std::string_view text) {
   tokens_.clear();
@@ -173,13 +173,11 @@ long long Scanner::toInt(std::string_view token, long long lo, long long hi,
   return value;
 }
 
-void Scanner::checkCount(long long count, std::size_t minBytesPerItem,
-                         const std::string& what) const {
-  if (count < 0) fail("expected a non-negative " + what + ", got " + std::to_string(count));
-  const std::size_t room = bytesLeft() / (minBytesPerItem ? minBytesPerItem : 1);
-  if (static_cast<unsigned long long>(count) > room)
-    fail("declared " + std::to_string(count) + " " + what + " but the rest of the file has room for at most " +
-         std::to_string(room));
+void Scanner::checkCount(long long count, const std::string& items) const {
+  if (count < 0) fail("expected a non-negative number of " + items + ", got " + std::to_string(count));
+  if (static_cast<unsigned long long>(count) > bytesLeft() + 1)
+    fail("declared " + std::to_string(count) + " " + items + " but only " +
+         std::to_string(bytesLeft()) + " bytes follow");
 }
 
 void checkDistinct(const Scanner& s, const long long* ids, int count) {

@@ -60,8 +60,10 @@ class Scanner {
   // An integer in [lo, hi].
   long long toInt(std::string_view token, long long lo, long long hi, const std::string& what) const;
 
-  // Guards allocations from a declared count: each item needs at least minBytes of text.
-  void checkCount(long long count, std::size_t minBytesPerItem, const std::string& what) const;
+  // Rejects a negative count or one larger than the bytes left (every item needs at least
+  // one byte), so that absurd counts fail early with a clear message. Readers still never
+  // reserve from a count: they grow as they read.
+  void checkCount(long long count, const std::string& items) const;
 
  private:
   void split(std::string_view text);
