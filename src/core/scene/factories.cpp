@@ -3,6 +3,7 @@
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/integrate/explicit_euler.h"
 #include "tissue_trainer/core/integrate/newtonian.h"
+#include "tissue_trainer/core/integrate/radau_iia.h"
 #include "tissue_trainer/core/model/edge_length.h"
 #include "tissue_trainer/core/model/stvk_displacement.h"
 #include "tissue_trainer/core/model/tensor_mass.h"
@@ -47,7 +48,7 @@ std::unique_ptr<ForceModel> makeForceModel(const YamlEntry& spec, const System& 
 
 std::unique_ptr<Integrator> makeIntegrator(const YamlEntry& spec) {
   const std::string type = spec["type"].choice(
-      {"backward_euler", "newtonian", "explicit_euler", "symplectic_euler"});
+      {"backward_euler", "newtonian", "radau_iia", "explicit_euler", "symplectic_euler"});
   if (type == "backward_euler") {
     spec.expectMap({"type", "substeps", "linear_tolerance", "linear_max_iterations",
                     "newton_iterations", "newton_tolerance", "require_convergence",
@@ -68,6 +69,23 @@ std::unique_ptr<Integrator> makeIntegrator(const YamlEntry& spec) {
     p.substep = spec.positive("time_step", p.substep);
     p.assumeEqualSteps = spec.boolean("equal_steps", p.assumeEqualSteps);
     return std::make_unique<NewtonianIntegrator>(p);
+  }
+  if (type == "radau_iia") {
+    spec.expectMap({"type", "jacobian", "abs_tol", "rel_tol", "adaptive", "initial_step",
+                    "max_step", "max_newton_iterations"});
+    RadauOptions o;
+    if (spec.has("jacobian")) {
+      const std::string j = spec["jacobian"].choice({"analytical", "numerical", "simplified"});
+      o.jacobian = j == "analytical" ? RadauJacobian::kAnalytical
+                   : j == "numerical" ? RadauJacobian::kNumerical : RadauJacobian::kSimplified;
+    }
+    o.absTol = spec.positive("abs_tol", o.absTol);
+    o.relTol = spec.positive("rel_tol", o.relTol);
+    o.adaptive = spec.boolean("adaptive", o.adaptive);
+    o.initialStep = spec.positive("initial_step", o.initialStep);
+    o.maxStep = spec.positive("max_step", o.maxStep);
+    o.maxNewtonIterations = spec.integerAtLeast("max_newton_iterations", 1, o.maxNewtonIterations);
+    return std::make_unique<RadauIIA>(o);
   }
   spec.expectMap({"type", "time_step"});
   ExplicitEulerParams p;
