@@ -129,7 +129,7 @@ output: {vtu_every: 5, csv: true}
   std::ifstream csv(dir / "out" / "block.csv");
   std::string header;
   std::getline(csv, header);
-  EXPECT_EQ(header.rfind("frame,time,kinetic_energy,elastic_energy,volume_ratio,max_displacement", 0), 0u);
+  EXPECT_EQ(header.rfind("frame,time,kinetic_energy,elastic_energy,load_energy,volume_ratio,max_displacement", 0), 0u);
   int lines = 0;
   for (std::string line; std::getline(csv, line);) ++lines;
   EXPECT_EQ(lines, 10);

@@ -21,14 +21,14 @@ std::string frameFileName(const std::string& name, int frame) {
 }
 
 void writeCsvHeader(std::ofstream& csv) {
-  csv << "frame,time,kinetic_energy,elastic_energy,volume_ratio,max_displacement,substeps,"
+  csv << "frame,time,kinetic_energy,elastic_energy,load_energy,volume_ratio,max_displacement,substeps,"
          "rejected,newton_iterations,linear_iterations,error_estimate,step_wall_s,ok\n";
 }
 
 void writeCsvLine(std::ofstream& csv, const FrameLog& f) {
   char line[512];
-  std::snprintf(line, sizeof line, "%d,%.9g,%.9g,%.9g,%.12g,%.9g,%d,%d,%d,%d,%.6g,%.6g,%d\n",
-                f.frame, f.time, f.kineticEnergy, f.elasticEnergy, f.volumeRatio,
+  std::snprintf(line, sizeof line, "%d,%.9g,%.9g,%.9g,%.9g,%.12g,%.9g,%d,%d,%d,%d,%.6g,%.6g,%d\n",
+                f.frame, f.time, f.kineticEnergy, f.elasticEnergy, f.loadEnergy, f.volumeRatio,
                 f.maxDisplacement, f.step.substeps, f.step.rejected, f.step.newtonIterations,
                 f.step.linearIterations, f.step.errorEstimate, f.step.wallSeconds, f.step.ok);
   csv << line;
@@ -41,7 +41,8 @@ FrameLog measureFrame(const System& system, int frame, const StepReport& step) {
   log.frame = frame;
   log.time = system.state.t;
   log.kineticEnergy = system.kineticEnergy(system.state.v);
-  log.elasticEnergy = system.potentialEnergy(system.state.x);
+  for (const auto& model : system.models)
+    (model->isBodyLoad() ? log.loadEnergy : log.elasticEnergy) += model->energy(system.state.x);
   const Eigen::Map<const Eigen::Matrix3Xd> x(system.state.x.data(), 3, system.numNodes());
   double restVolume = 0.0, volume = 0.0;
   for (const Tet& t : system.mesh.tets) {

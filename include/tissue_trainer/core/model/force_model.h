@@ -23,6 +23,8 @@ class ForceModel {
   // Potential energy in J at x (0 where the model has none).
   virtual double energy(const Eigen::VectorXd& x) const = 0;
   virtual bool hasEnergy() const { return true; }
+  // True for body loads such as gravity, whose energy is not elastic (logs report it apart).
+  virtual bool isBodyLoad() const { return false; }
 
   // K += scale * df/dx at x, into a matrix with the system's pattern.
   virtual bool hasStiffness() const { return false; }

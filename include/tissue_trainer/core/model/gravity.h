@@ -13,6 +13,7 @@ class GravityModel : public ForceModel {
   GravityModel(const Eigen::VectorXd& mass, const Eigen::Vector3d& g);
 
   const char* name() const override { return "gravity"; }
+  bool isBodyLoad() const override { return true; }
   double addForce(const Eigen::VectorXd& x, const Eigen::VectorXd& v,
                   Eigen::VectorXd& f) const override;
   double energy(const Eigen::VectorXd& x) const override;

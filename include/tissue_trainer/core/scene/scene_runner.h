@@ -14,6 +14,7 @@ struct FrameLog {
   double time = 0.0;
   double kineticEnergy = 0.0;
   double elasticEnergy = 0.0;
+  double loadEnergy = 0.0;       // potential of body loads (gravity), J
   double volumeRatio = 1.0;      // total deformed volume / total rest volume
   double maxDisplacement = 0.0;  // m
   StepReport step;
