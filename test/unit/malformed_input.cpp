@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -426,7 +427,11 @@ void fuzzFile(const std::string& name, const std::string& original, int mutation
     auto fail = [&](const std::string& why) {
       ADD_FAILURE() << name << " mutation " << i << " (seed " << seed << "): " << why;
     };
-    succeeded += expectValidOrInputError([&] { read(path); }, fail);
+    // TT_FUZZ_KEEP=i keeps mutation i as PATH.kept, to reproduce a failure by hand.
+    if (std::getenv("TT_FUZZ_KEEP") && std::atoi(std::getenv("TT_FUZZ_KEEP")) == i)
+      std::ofstream(path + ".kept", std::ios::binary) << text;
+    const bool ok = expectValidOrInputError([&] { read(path); }, fail);
+    succeeded += ok;
   }
   std::printf("%s: %d of %d mutations read as valid meshes, %d rejected\n", name.c_str(), succeeded, mutations,
               mutations - succeeded);
