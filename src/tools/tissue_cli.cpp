@@ -25,7 +25,7 @@ constexpr int kOk = 0, kBadInput = 2, kRunFailed = 3;
 const char* const kUsage =
     "usage:\n"
     "  tissue_cli info MESH\n"
-    "  tissue_cli convert IN OUT            (OUT: .vtu, .msh (Gmsh v2), .node/.ele (TetGen))\n"
+    "  tissue_cli convert IN OUT            (OUT: .vtu, .msh (Gmsh v2), .vtk, .node/.ele (TetGen))\n"
     "  tissue_cli run SCENE.yaml [--duration T] [--out DIR]\n"
     "  tissue_cli forces --mesh MESH --deformed POSITIONS --model NAME --lambda L --mu M\n"
     "                    [--lambda-l LL --mu-l ML --fiber X Y Z]\n";
@@ -88,15 +88,12 @@ int info(const Arguments& args) {
 int convert(const Arguments& args) {
   if (args.positional.size() != 2) throw UsageError("convert expects IN and OUT");
   const std::string& out = args.positional[1];
-  tt::Mesh mesh = tt::readMesh(args.positional[0]);
-  auto endsWith = [&](const char* suffix) {
-    const size_t n = std::strlen(suffix);
-    return out.size() >= n && out.compare(out.size() - n, n, suffix) == 0;
-  };
-  if (endsWith(".vtu")) tt::writeVtu(out, mesh);
-  else if (endsWith(".msh")) tt::writeGmsh2(out, mesh);
-  else if (endsWith(".node") || endsWith(".ele")) tt::writeTetgen(out.substr(0, out.size() - (endsWith(".node") ? 5 : 4)), mesh);
-  else throw UsageError("convert: OUT must end in .vtu, .msh, .node or .ele");
+  const tt::Mesh mesh = tt::readMesh(args.positional[0]);
+  try {
+    tt::writeMesh(out, mesh);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("convert: ") + e.what());
+  }
   std::cout << "wrote " << out << " (" << mesh.numNodes() << " nodes, " << mesh.numTets()
             << " tets)\n";
   return kOk;
