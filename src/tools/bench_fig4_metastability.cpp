@@ -213,6 +213,7 @@ void table(int nodesPerSide, double pullCells, double settleSeconds) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // rows appear as they are measured
   const double pullCells = argc > 1 ? std::atof(argv[1]) : 2.0;
   const double settleSeconds = argc > 2 ? std::atof(argv[2]) : 2.0;
   if (argc > 3) gStepFraction = std::atof(argv[3]);
