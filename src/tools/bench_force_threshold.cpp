@@ -1,6 +1,6 @@
 // The cost of seed 000's speed trick (section 3): nodes whose net force is below a threshold
 // are not propagated by the Newtonian scheme. On the muscle demo (muscle_scene.h, edge_length
-// fast, Newtonian at 0.8 of its stability limit) the thresholds are fractions of the largest
+// fast, Newtonian at half its stability limit at rest) the thresholds are fractions of the largest
 // net nodal force at the peak of the pull; the error is the largest node distance to the
 // threshold-0 run with the same integrator and step (so it is the trick's own error), at the
 // peak of the pull and at the end. Wall time: median over repeats.
@@ -90,7 +90,7 @@ int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // rows appear as they are measured
   const int repeats = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
   auto probe = muscle(edgeLength);
-  const double step = 0.8 * 2.0 / omegaMax(*probe);
+  const double step = 0.5 * 2.0 / omegaMax(*probe);
   const Run exact = medianRun(step, 0.0, repeats);
   if (!exact.ok) {
     std::printf("threshold-0 run failed\n");
