@@ -39,16 +39,35 @@ void NewtonianIntegrator::substep(System& system, double h, double endTime) {
   const auto previous = (2.0 * m / h1 - gamma * eta) / ((eta + 1.0) * h1);
   nextX_.resize(s.x.size());
   nextX_.array() = (force_.array() + current * s.x.array() - previous * previousX_.array()) / lhs;
+  frozen_.clear();
+  if (params.forceThreshold > 0.0) freezeLowForceNodes(system);
 
   // Second-order backward difference through x-, x, x+ with the actual steps.
   const double a = previousStep_, b = h;
   s.v = (nextX_ * ((2.0 * b + a) / (b * (a + b))) - s.x * ((a + b) / (a * b)) +
          previousX_ * (b / (a * (a + b))));
+  for (int node : frozen_) s.v.segment<3>(3 * node).setZero();
   previousX_.swap(s.x);
   s.x.swap(nextX_);
   previousStep_ = h;
   s.t = endTime;
   system.prescribe(s.t, s.x, s.v);
+}
+
+void NewtonianIntegrator::freezeLowForceNodes(const System& system) {
+  const State& s = system.state;
+  const double threshold2 = params.forceThreshold * params.forceThreshold;
+  for (int node = 0; node < system.numNodes(); ++node) {
+    const int dof = 3 * node;
+    if (system.isConstrained[dof] && system.isConstrained[dof + 1] && system.isConstrained[dof + 2])
+      continue;
+    const Eigen::Vector3d net =
+        force_.segment<3>(dof) - system.damping.segment<3>(dof).cwiseProduct(s.v.segment<3>(dof));
+    if (net.squaredNorm() >= threshold2) continue;
+    nextX_.segment<3>(dof) = s.x.segment<3>(dof);
+    frozen_.push_back(node);
+  }
+  frozenNodeSteps_ += static_cast<long>(frozen_.size());
 }
 
 StepReport NewtonianIntegrator::advance(System& system, double frameTime) {

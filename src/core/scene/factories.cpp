@@ -64,10 +64,15 @@ std::unique_ptr<Integrator> makeIntegrator(const YamlEntry& spec) {
     return std::make_unique<BackwardEulerIntegrator>(p);
   }
   if (type == "newtonian") {
-    spec.expectMap({"type", "time_step", "equal_steps"});
+    spec.expectMap({"type", "time_step", "equal_steps", "force_threshold"});
     NewtonianParams p;
     p.substep = spec.positive("time_step", p.substep);
     p.assumeEqualSteps = spec.boolean("equal_steps", p.assumeEqualSteps);
+    if (spec.has("force_threshold")) {
+      const YamlEntry e = spec["force_threshold"];
+      p.forceThreshold = e.number();
+      if (p.forceThreshold < 0.0) e.fail("expected a non-negative force threshold (N)");
+    }
     return std::make_unique<NewtonianIntegrator>(p);
   }
   if (type == "radau_iia") {
