@@ -16,9 +16,25 @@ foreach(f ${TT_CORE_FILES})
 endforeach()
 
 file(GLOB_RECURSE TT_CORE_SOURCES CONFIGURE_DEPENDS "${TT_ROOT}/src/core/*.cpp")
+# Rooms with a dependency of their own are libraries of their own (below).
+list(FILTER TT_CORE_SOURCES EXCLUDE REGEX "/src/core/contact/")
 add_library(tissue_trainer_core ${TT_CORE_SOURCES})
 target_include_directories(tissue_trainer_core PUBLIC "${TT_ROOT}/include")
 target_link_libraries(tissue_trainer_core PUBLIC Eigen3::Eigen yaml-cpp Threads::Threads)
 target_compile_features(tissue_trainer_core PUBLIC cxx_std_17)
 target_compile_options(tissue_trainer_core PRIVATE -Wall -Wextra)
 set_target_properties(tissue_trainer_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
+
+# Instrument-tissue contact: Bullet collision detection (CMake's FindBullet gives absolute
+# paths; Debian's BulletConfig.cmake does not).
+set(TT_OPTIONAL_CORE_LIBRARIES "")
+file(GLOB_RECURSE TT_CONTACT_SOURCES CONFIGURE_DEPENDS "${TT_ROOT}/src/core/contact/*.cpp")
+if(TT_CONTACT_SOURCES)
+  find_package(Bullet REQUIRED)
+  add_library(tissue_trainer_contact ${TT_CONTACT_SOURCES})
+  target_include_directories(tissue_trainer_contact PUBLIC ${BULLET_INCLUDE_DIRS})
+  target_link_libraries(tissue_trainer_contact PUBLIC tissue_trainer_core ${BULLET_LIBRARIES})
+  target_compile_options(tissue_trainer_contact PRIVATE -Wall -Wextra)
+  set_target_properties(tissue_trainer_contact PROPERTIES POSITION_INDEPENDENT_CODE ON)
+  list(APPEND TT_OPTIONAL_CORE_LIBRARIES tissue_trainer_contact)
+endif()

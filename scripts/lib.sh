@@ -14,6 +14,7 @@ TT_PACKAGES=(
   libtf2-ros-dev libtf2-geometry-msgs-dev liburdfdom-dev liburdf-dev ros-message-generation
   libstd-msgs-dev libgeometry-msgs-dev libsensor-msgs-dev libvisualization-msgs-dev
   ros-std-msgs ros-geometry-msgs ros-sensor-msgs ros-visualization-msgs
+  ros-std-srvs libstd-srvs-dev ros-diagnostic-msgs libdiagnostic-msgs-dev
   libbullet-dev libosmesa6-dev libpng-dev libeigen3-dev libyaml-cpp-dev libgtest-dev
 )
 
