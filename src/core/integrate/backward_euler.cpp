@@ -38,6 +38,8 @@ bool BackwardEulerIntegrator::conjugateGradients(const Eigen::VectorXd& b, Eigen
   const double threshold = params.linearTolerance * b.norm();
   r_ = b - A_ * x;
   iterations = 0;
+  const double bNorm = b.norm();
+  diagnostics_.lastRelativeResidual = r_.norm() / bNorm;
   if (r_.norm() <= threshold) return true;
   z_ = inverseDiagonal_.cwiseProduct(r_);
   p_ = z_;
@@ -50,7 +52,9 @@ bool BackwardEulerIntegrator::conjugateGradients(const Eigen::VectorXd& b, Eigen
     const double alpha = rz / curvature;
     x += alpha * p_;
     r_ -= alpha * Ap_;
-    if (r_.norm() <= threshold) return true;
+    const double rNorm = r_.norm();
+    diagnostics_.lastRelativeResidual = rNorm / bNorm;
+    if (rNorm <= threshold) return true;
     z_ = inverseDiagonal_.cwiseProduct(r_);
     const double rzNext = r_.dot(z_);
     p_ = z_ + (rzNext / rz) * p_;
@@ -62,6 +66,7 @@ bool BackwardEulerIntegrator::conjugateGradients(const Eigen::VectorXd& b, Eigen
 
 int BackwardEulerIntegrator::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   if (b.norm() == 0.0) {
+    diagnostics_.lastRelativeResidual = 0.0;
     x.setZero();
     return 0;
   }
@@ -83,6 +88,7 @@ int BackwardEulerIntegrator::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x)
   fallback.compute(A_);
   x = fallback.solveWithGuess(b, guess);
   if (fallback.info() != Eigen::Success) ++diagnostics_.unconvergedLinear;
+  diagnostics_.lastRelativeResidual = fallback.error();
   return iterations + static_cast<int>(fallback.iterations());
 }
 

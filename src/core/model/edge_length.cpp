@@ -146,22 +146,19 @@ EdgeLengthModel::EdgeLengthModel(const Mesh& mesh, const std::vector<Material>& 
 double EdgeLengthModel::addForce(const Eigen::VectorXd& x, const Eigen::VectorXd& /*v*/,
                                  Eigen::VectorXd& f) const {
   if (path_ == EdgeLengthPath::kFast) return addStvkForces(x, tets_, stvk_, f);
-  double energy = 0.0;
-  for (size_t e = 0; e < tets_.size(); ++e) {
+  return accumulateTetForces(tets_, f, [&](int e, Matrix34d& fe) {
     const Matrix34d xe = gatherTet(x, tets_[e]);
     const EdgeLengthLiteralTet& t = literal_[e];
-    scatterAddTet(-t.volume * edgeLengthLiteralGradient(xe, t), tets_[e], f);
-    energy += t.volume * edgeLengthLiteralDensity(xe, t);
-  }
-  return energy;
+    fe.noalias() = -t.volume * edgeLengthLiteralGradient(xe, t);
+    return t.volume * edgeLengthLiteralDensity(xe, t);
+  });
 }
 
 double EdgeLengthModel::energy(const Eigen::VectorXd& x) const {
   if (path_ == EdgeLengthPath::kFast) return stvkEnergy(x, tets_, stvk_);
-  double energy = 0.0;
-  for (size_t e = 0; e < tets_.size(); ++e)
-    energy += literal_[e].volume * edgeLengthLiteralDensity(gatherTet(x, tets_[e]), literal_[e]);
-  return energy;
+  return sumOverTets(static_cast<int>(tets_.size()), [&](int e) {
+    return literal_[e].volume * edgeLengthLiteralDensity(gatherTet(x, tets_[e]), literal_[e]);
+  });
 }
 
 void EdgeLengthModel::addStiffness(const Eigen::VectorXd& x, double scale,

@@ -57,40 +57,34 @@ StvkDisplacementModel::StvkDisplacementModel(const Mesh& mesh,
 
 double StvkDisplacementModel::addForce(const Eigen::VectorXd& x, const Eigen::VectorXd& /*v*/,
                                        Eigen::VectorXd& f) const {
-  double energy = 0.0;
-  Matrix34d G;
-  for (size_t e = 0; e < tets_.size(); ++e) {
+  const double sign = signValue();
+  return accumulateTetForces(tets_, f, [&](int e, Matrix34d& fe) {
     const Matrix34d U = gatherTet(x, tets_[e]) - gatherTet(rest_, tets_[e]);
-    energy += stvk_[e].volume * picinbonoTetGradient(U, stvk_[e], signValue(), G);
-    scatterAddTet(-stvk_[e].volume * G, tets_[e], f);
-  }
-  return energy;
+    const double energy = stvk_[e].volume * picinbonoTetGradient(U, stvk_[e], sign, fe);
+    fe *= -stvk_[e].volume;
+    return energy;
+  });
 }
 
 double StvkDisplacementModel::energy(const Eigen::VectorXd& x) const {
-  double energy = 0.0;
-  Matrix34d G;
-  for (size_t e = 0; e < tets_.size(); ++e) {
+  const double sign = signValue();
+  return sumOverTets(static_cast<int>(tets_.size()), [&](int e) {
+    Matrix34d G;
     const Matrix34d U = gatherTet(x, tets_[e]) - gatherTet(rest_, tets_[e]);
-    energy += stvk_[e].volume * picinbonoTetGradient(U, stvk_[e], signValue(), G);
-  }
-  return energy;
+    return stvk_[e].volume * picinbonoTetGradient(U, stvk_[e], sign, G);
+  });
 }
 
 // With the correct sign the force is the StVK force, so is its Jacobian. With the printed sign
 // f(x) = -f_StVK(2 rest - x), hence df/dx = K_StVK(2 rest - x).
 void StvkDisplacementModel::addStiffness(const Eigen::VectorXd& x, double scale,
                                          const SparsePattern& pattern, SparseMatrix& K) const {
-  Matrix12d Ke;
-  for (size_t e = 0; e < tets_.size(); ++e) {
+  double* values = K.valuePtr();
+  forEachTetColoured(pattern, static_cast<int>(tets_.size()), [&](int e) {
     const Matrix34d xe = gatherTet(x, tets_[e]);
-    if (sign_ == AlphaSign::kCorrect)
-      stvkTetStiffness(xe, stvk_[e], Ke);
-    else
-      stvkTetStiffness(2.0 * gatherTet(rest_, tets_[e]) - xe, stvk_[e], Ke);
-    Ke *= scale;
-    pattern.addTetBlock(K, static_cast<int>(e), Ke);
-  }
+    const Matrix34d at = sign_ == AlphaSign::kCorrect ? xe : 2.0 * gatherTet(rest_, tets_[e]) - xe;
+    addStvkTetStiffness(at, stvk_[e], scale, pattern.tetOffsets(e), values);
+  });
 }
 
 }  // namespace tt

@@ -41,34 +41,32 @@ double TensorMassModel::tetForces(const Blocks& blocks, const Matrix34d& U, Matr
 
 double TensorMassModel::addForce(const Eigen::VectorXd& x, const Eigen::VectorXd& /*v*/,
                                  Eigen::VectorXd& f) const {
-  double energy = 0.0;
-  Matrix34d fe;
-  for (size_t e = 0; e < tets_.size(); ++e) {
-    energy += tetForces(blocks_[e], gatherTet(x, tets_[e]) - gatherTet(rest_, tets_[e]), fe);
-    scatterAddTet(fe, tets_[e], f);
-  }
-  return energy;
+  return accumulateTetForces(tets_, f, [&](int e, Matrix34d& fe) {
+    return tetForces(blocks_[e], gatherTet(x, tets_[e]) - gatherTet(rest_, tets_[e]), fe);
+  });
 }
 
 double TensorMassModel::energy(const Eigen::VectorXd& x) const {
-  double energy = 0.0;
-  Matrix34d fe;
-  for (size_t e = 0; e < tets_.size(); ++e)
-    energy += tetForces(blocks_[e], gatherTet(x, tets_[e]) - gatherTet(rest_, tets_[e]), fe);
-  return energy;
+  return sumOverTets(static_cast<int>(tets_.size()), [&](int e) {
+    Matrix34d fe;
+    return tetForces(blocks_[e], gatherTet(x, tets_[e]) - gatherTet(rest_, tets_[e]), fe);
+  });
 }
 
 void TensorMassModel::addStiffness(const Eigen::VectorXd& /*x*/, double scale,
                                    const SparsePattern& pattern, SparseMatrix& K) const {
-  Matrix12d Ke;
-  for (size_t e = 0; e < tets_.size(); ++e) {
+  double* values = K.valuePtr();
+  forEachTetColoured(pattern, static_cast<int>(tets_.size()), [&](int e) {
+    const std::array<int, 48>& offsets = pattern.tetOffsets(e);
     for (int p = 0; p < 4; ++p)
-      for (int q = p; q < 4; ++q) {
-        Ke.block<3, 3>(3 * p, 3 * q) = scale * blocks_[e][kBlockOf[p][q]];
-        if (q != p) Ke.block<3, 3>(3 * q, 3 * p) = scale * blocks_[e][kBlockOf[p][q]].transpose();
+      for (int q = 0; q < 4; ++q) {
+        const Eigen::Matrix3d& block = blocks_[e][kBlockOf[p][q]];  // K_qp = K_pq^T
+        for (int i = 0; i < 3; ++i) {
+          double* row = values + offsets[(p * 4 + q) * 3 + i];
+          for (int j = 0; j < 3; ++j) row[j] += scale * (p <= q ? block(i, j) : block(j, i));
+        }
       }
-    pattern.addTetBlock(K, static_cast<int>(e), Ke);
-  }
+  });
 }
 
 }  // namespace tt

@@ -3,6 +3,33 @@
 #include <algorithm>
 
 namespace tt {
+namespace {
+
+// Greedy colouring in tet order: each tet takes the smallest colour none of the tets at its
+// nodes has yet. Returns the colour of every tet.
+std::vector<int> colourTets(int numNodes, const std::vector<Tet>& tets, int& colours) {
+  std::vector<std::vector<int>> tetsAt(numNodes);
+  for (size_t e = 0; e < tets.size(); ++e)
+    for (int a : tets[e]) tetsAt[a].push_back(static_cast<int>(e));
+  std::vector<int> colour(tets.size(), -1);
+  std::vector<int> usedBy;  // usedBy[c] == e: colour c is taken by a neighbour of tet e
+  colours = 0;
+  for (size_t e = 0; e < tets.size(); ++e) {
+    for (int a : tets[e])
+      for (int other : tetsAt[a])
+        if (colour[other] >= 0) usedBy[colour[other]] = static_cast<int>(e);
+    int c = 0;
+    while (c < colours && usedBy[c] == static_cast<int>(e)) ++c;
+    if (c == colours) {
+      ++colours;
+      usedBy.push_back(-1);
+    }
+    colour[e] = c;
+  }
+  return colour;
+}
+
+}  // namespace
 
 SparsePattern::SparsePattern(int numNodes, const std::vector<Tet>& tets,
                              const std::vector<std::array<int, 2>>& extraPairs)
@@ -46,6 +73,15 @@ SparsePattern::SparsePattern(int numNodes, const std::vector<Tet>& tets,
                                             3 * tets[e][lb]);
           tetOffsets_[e][(la * 4 + lb) * 3 + i] = static_cast<int>(pos - inner);
         }
+
+  int colours = 0;
+  const std::vector<int> colour = colourTets(numNodes, tets, colours);
+  colourStarts_.assign(colours + 1, 0);
+  for (int c : colour) ++colourStarts_[c + 1];
+  for (int c = 0; c < colours; ++c) colourStarts_[c + 1] += colourStarts_[c];
+  tetsByColour_.resize(tets.size());
+  std::vector<int> next(colourStarts_.begin(), colourStarts_.end() - 1);
+  for (size_t e = 0; e < tets.size(); ++e) tetsByColour_[next[colour[e]]++] = static_cast<int>(e);
 }
 
 SparseMatrix SparsePattern::zeroMatrix() const {

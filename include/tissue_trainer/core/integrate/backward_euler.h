@@ -38,6 +38,7 @@ struct BackwardEulerDiagnostics {
   int nonPositiveCurvature = 0;  // CG solves abandoned for BiCGSTAB
   int unconvergedLinear = 0;     // solves that hit linearMaxIterations
   int unconvergedNewton = 0;     // steps whose Newton loop hit newtonIterations (> 1)
+  double lastRelativeResidual = 0.0;  // |b - A dv| / |b| reached by the last linear solve
 };
 
 class BackwardEulerIntegrator : public Integrator {

@@ -11,11 +11,10 @@
 #include "tissue_trainer/core/mesh/mesh.h"
 #include "tissue_trainer/core/model/material.h"
 #include "tissue_trainer/core/model/tet_geometry.h"
+#include "tissue_trainer/core/model/tet_loops.h"
 #include "tissue_trainer/core/solve/sparse_pattern.h"
 
 namespace tt {
-
-using Matrix34d = Eigen::Matrix<double, 3, 4>;
 
 // Compact per-tet constants: rest volume, barycentric gradients, fibre, material.
 struct StvkTet {
@@ -42,17 +41,6 @@ inline std::vector<StvkTet> makeStvkTets(const Mesh& mesh, const std::vector<Mat
   std::vector<StvkTet> tets(mesh.tets.size());
   for (int e = 0; e < mesh.numTets(); ++e) tets[e] = makeStvkTet(mesh, materials, e);
   return tets;
-}
-
-// The four node positions (or displacements) of tet t as columns.
-inline Matrix34d gatherTet(const Eigen::VectorXd& x, const Tet& t) {
-  Matrix34d xe;
-  for (int p = 0; p < 4; ++p) xe.col(p) = x.segment<3>(3 * t[p]);
-  return xe;
-}
-
-inline void scatterAddTet(const Matrix34d& fe, const Tet& t, Eigen::VectorXd& f) {
-  for (int p = 0; p < 4; ++p) f.segment<3>(3 * t[p]) += fe.col(p);
 }
 
 // F = Ds Dm^-1 from the edge vectors x_p - x_0 (not sum_p x_p g_p^T): far from the origin the
@@ -82,12 +70,42 @@ inline Eigen::Matrix3d stvkSecondPiola(const Eigen::Matrix3d& E, const StvkTet& 
 }
 
 // Physical nodal forces of the tet at positions xe (columns) into fe; returns V0 psi.
+// The same polynomial as stvkDensity/stvkSecondPiola, written for speed: E and S symmetric
+// (6 entries), the fibre strain from b = F a0 (a0 . E a0 = (|b|^2 - 1)/2), -V0 folded into
+// S, P g_p for p = 1..3 only (g_0 = -(g_1 + g_2 + g_3), so f_0 = -(f_1 + f_2 + f_3) and the
+// forces sum to zero exactly).
 inline double stvkTetForces(const Matrix34d& xe, const StvkTet& t, Matrix34d& fe) {
-  const Eigen::Matrix3d F = tetDeformationGradient(xe, t.grad);
-  const Eigen::Matrix3d E = greenStrain(F);
-  const Eigen::Matrix3d S = stvkSecondPiola(E, t);
-  fe.noalias() = (-t.volume) * (F * S) * t.grad;
-  return t.volume * stvkDensity(E, t);
+  const auto B = t.grad.rightCols<3>();  // column q is g_{q+1}; B^T = Dm^-1
+  const Eigen::Matrix3d Ds = xe.rightCols<3>().colwise() - xe.col(0);
+  Eigen::Matrix3d F;
+  F.noalias() = Ds.lazyProduct(B.transpose());
+  const double e00 = 0.5 * (F.col(0).squaredNorm() - 1.0);
+  const double e11 = 0.5 * (F.col(1).squaredNorm() - 1.0);
+  const double e22 = 0.5 * (F.col(2).squaredNorm() - 1.0);
+  const double e01 = 0.5 * F.col(0).dot(F.col(1));
+  const double e02 = 0.5 * F.col(0).dot(F.col(2));
+  const double e12 = 0.5 * F.col(1).dot(F.col(2));
+  const Eigen::Vector3d& a = t.fibre;
+  const double fibreStrain = 0.5 * ((F * a).squaredNorm() - 1.0);
+  const double tr = e00 + e11 + e22;
+  const double V = t.volume;
+  const double energy =
+      V * (0.5 * t.lambda * tr * tr +
+           t.mu * (e00 * e00 + e11 * e11 + e22 * e22 + 2.0 * (e01 * e01 + e02 * e02 + e12 * e12)) +
+           t.c * fibreStrain * fibreStrain);
+  const double m2 = -2.0 * V * t.mu, lt = -V * t.lambda * tr, cf = -2.0 * V * t.c * fibreStrain;
+  Eigen::Matrix3d S;  // -V0 S
+  S(0, 0) = m2 * e00 + lt + cf * a[0] * a[0];
+  S(1, 1) = m2 * e11 + lt + cf * a[1] * a[1];
+  S(2, 2) = m2 * e22 + lt + cf * a[2] * a[2];
+  S(0, 1) = S(1, 0) = m2 * e01 + cf * a[0] * a[1];
+  S(0, 2) = S(2, 0) = m2 * e02 + cf * a[0] * a[2];
+  S(1, 2) = S(2, 1) = m2 * e12 + cf * a[1] * a[2];
+  Eigen::Matrix3d P;
+  P.noalias() = F.lazyProduct(S);
+  fe.rightCols<3>().noalias() = P.lazyProduct(B);
+  fe.col(0) = -(fe.col(1) + fe.col(2) + fe.col(3));
+  return energy;
 }
 
 inline double stvkTetEnergy(const Matrix34d& xe, const StvkTet& t) {
@@ -121,34 +139,63 @@ inline void stvkTetStiffness(const Matrix34d& xe, const StvkTet& t, Matrix12d& K
   }
 }
 
+// K += scale * Ke of the tet at positions xe, straight into K's values through the tet's
+// offsets in the pattern (the blocks of stvkTetStiffness, each computed once).
+inline void addStvkTetStiffness(const Matrix34d& xe, const StvkTet& t, double scale,
+                                const std::array<int, 48>& offsets, double* values) {
+  const Eigen::Matrix3d F = tetDeformationGradient(xe, t.grad);
+  const Eigen::Matrix3d S = stvkSecondPiola(greenStrain(F), t);
+  Matrix34d H;
+  H.noalias() = F * t.grad;
+  Matrix34d SG;
+  SG.noalias() = S * t.grad;
+  const Eigen::Matrix3d FFt = F * F.transpose();
+  const Eigen::Vector3d b = F * t.fibre;
+  const Eigen::Matrix3d bbt = b * b.transpose();
+  const Eigen::Vector4d ag = t.grad.transpose() * t.fibre;
+  const double v = -t.volume * scale;
+  const double lambda = v * t.lambda, mu = v * t.mu, c2 = 2.0 * v * t.c;
+  for (int p = 0; p < 4; ++p) {
+    for (int q = p; q < 4; ++q) {
+      Eigen::Matrix3d block = (mu * t.grad.col(p).dot(t.grad.col(q))) * FFt +
+                              (c2 * ag[p] * ag[q]) * bbt;
+      block.noalias() += (lambda * H.col(p)) * H.col(q).transpose();
+      block.noalias() += (mu * H.col(q)) * H.col(p).transpose();
+      block.diagonal().array() += v * t.grad.col(q).dot(SG.col(p));
+      for (int i = 0; i < 3; ++i) {
+        double* row = values + offsets[(p * 4 + q) * 3 + i];
+        for (int j = 0; j < 3; ++j) row[j] += block(i, j);
+      }
+      if (q == p) continue;
+      for (int i = 0; i < 3; ++i) {
+        double* row = values + offsets[(q * 4 + p) * 3 + i];
+        for (int j = 0; j < 3; ++j) row[j] += block(j, i);
+      }
+    }
+  }
+}
+
 // Whole-mesh loops shared by the models whose force is the StVK polynomial.
 inline double addStvkForces(const Eigen::VectorXd& x, const std::vector<Tet>& tets,
                             const std::vector<StvkTet>& data, Eigen::VectorXd& f) {
-  double energy = 0.0;
-  Matrix34d fe;
-  for (size_t e = 0; e < tets.size(); ++e) {
-    energy += stvkTetForces(gatherTet(x, tets[e]), data[e], fe);
-    scatterAddTet(fe, tets[e], f);
-  }
-  return energy;
+  return accumulateTetForces(tets, f, [&](int e, Matrix34d& fe) {
+    return stvkTetForces(gatherTet(x, tets[e]), data[e], fe);
+  });
 }
 
 inline double stvkEnergy(const Eigen::VectorXd& x, const std::vector<Tet>& tets,
                          const std::vector<StvkTet>& data) {
-  double energy = 0.0;
-  for (size_t e = 0; e < tets.size(); ++e) energy += stvkTetEnergy(gatherTet(x, tets[e]), data[e]);
-  return energy;
+  return sumOverTets(static_cast<int>(tets.size()),
+                     [&](int e) { return stvkTetEnergy(gatherTet(x, tets[e]), data[e]); });
 }
 
 inline void addStvkStiffness(const Eigen::VectorXd& x, double scale, const std::vector<Tet>& tets,
                              const std::vector<StvkTet>& data, const SparsePattern& pattern,
                              SparseMatrix& K) {
-  Matrix12d Ke;
-  for (size_t e = 0; e < tets.size(); ++e) {
-    stvkTetStiffness(gatherTet(x, tets[e]), data[e], Ke);
-    Ke *= scale;
-    pattern.addTetBlock(K, static_cast<int>(e), Ke);
-  }
+  double* values = K.valuePtr();
+  forEachTetColoured(pattern, static_cast<int>(tets.size()), [&](int e) {
+    addStvkTetStiffness(gatherTet(x, tets[e]), data[e], scale, pattern.tetOffsets(e), values);
+  });
 }
 
 }  // namespace tt

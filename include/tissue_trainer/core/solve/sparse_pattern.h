@@ -30,11 +30,22 @@ class SparsePattern {
 
   int numNodes() const { return numNodes_; }
 
+  // Offsets of tet t's entries, as used by addTetBlock: entry (la * 4 + lb) * 3 + i is the
+  // value offset of K(3a+i, 3b) (the three entries j = 0..2 follow it).
+  const std::array<int, 48>& tetOffsets(int tet) const { return tetOffsets_[tet]; }
+
+  // A greedy colouring of the tets: no two tets of one colour share a node, so the tets of a
+  // colour can be assembled concurrently. The tets of colour c are
+  // tetsByColour()[colourStarts()[c] .. colourStarts()[c + 1]), in increasing index order.
+  const std::vector<int>& tetsByColour() const { return tetsByColour_; }
+  const std::vector<int>& colourStarts() const { return colourStarts_; }
+
  private:
   int numNodes_ = 0;
   SparseMatrix pattern_;
   // Per tet, per (la, lb) pair, per row i: the offset of entry (3a+i, 3b) in the value array.
   std::vector<std::array<int, 48>> tetOffsets_;
+  std::vector<int> tetsByColour_, colourStarts_;
 };
 
 }  // namespace tt

@@ -1,0 +1,104 @@
+#pragma once
+// Whole-mesh loops over tets shared by the tet force models, sequential or on
+// tt::threadCount() threads (parallel.h):
+//   forces    : each thread takes a contiguous range of tets; the first adds straight into f,
+//               the others into their own zeroed force buffer, and the buffers are added to f
+//               afterwards in thread order. Streaming the per-tet data in mesh order keeps the
+//               cheap force kernel fast, and the extra work (zero + add of 3n doubles per extra
+//               thread) is small beside the tets.
+//   stiffness : a per-thread copy of K would cost more than the assembly itself, so the tets
+//               are coloured (SparsePattern: no two tets of a colour share a node) and the
+//               colours assembled one after another, each split across the threads. Every
+//               entry of K then receives its terms in the same order for any thread count.
+// Per-tet work is a callable inlined into the loop (no virtual call, no allocation).
+#include <Eigen/Core>
+#include <array>
+#include <vector>
+
+#include "tissue_trainer/core/mesh/mesh.h"
+#include "tissue_trainer/core/parallel.h"
+#include "tissue_trainer/core/solve/sparse_pattern.h"
+
+namespace tt {
+
+using Matrix34d = Eigen::Matrix<double, 3, 4>;
+
+namespace detail {
+// Force buffers of the threads other than the first, owned by the calling thread and kept
+// between calls (sized to `size` doubles; no allocation once sized).
+std::vector<Eigen::VectorXd>& forceBuffers(int count, Eigen::Index size);
+}  // namespace detail
+
+// The four node positions (or displacements) of tet t as columns.
+inline Matrix34d gatherTet(const Eigen::VectorXd& x, const Tet& t) {
+  Matrix34d xe;
+  for (int p = 0; p < 4; ++p) xe.col(p) = x.segment<3>(3 * t[p]);
+  return xe;
+}
+
+inline void scatterAddTet(const Matrix34d& fe, const Tet& t, Eigen::VectorXd& f) {
+  for (int p = 0; p < 4; ++p) f.segment<3>(3 * t[p]) += fe.col(p);
+}
+
+// f += sum over tets of the nodal forces tetForce(e, fe) writes into fe; returns the sum of
+// what tetForce returns (the energies).
+template <class TetForce>
+double accumulateTetForces(const std::vector<Tet>& tets, Eigen::VectorXd& f,
+                           const TetForce& tetForce) {
+  const int parts = threadCount();
+  const int count = static_cast<int>(tets.size());
+  std::array<double, kMaxThreads> energies{};
+  std::vector<Eigen::VectorXd>& buffers = detail::forceBuffers(parts - 1, f.size());
+  parallelRanges(parts, count, [&](int part, int begin, int end) {
+    Eigen::VectorXd& out = part == 0 ? f : buffers[part - 1];
+    if (part > 0) out.setZero();
+    double energy = 0.0;
+    Matrix34d fe;
+    for (int e = begin; e < end; ++e) {
+      energy += tetForce(e, fe);
+      scatterAddTet(fe, tets[e], out);
+    }
+    energies[part] = energy;
+  });
+  if (parts > 1) {
+    parallelRanges(parts, static_cast<int>(f.size()), [&](int, int begin, int end) {
+      for (int b = 0; b < parts - 1; ++b)
+        f.segment(begin, end - begin) += buffers[b].segment(begin, end - begin);
+    });
+  }
+  double energy = 0.0;
+  for (int part = 0; part < parts; ++part) energy += energies[part];
+  return energy;
+}
+
+// Sum over tets of tetValue(e).
+template <class TetValue>
+double sumOverTets(int count, const TetValue& tetValue) {
+  const int parts = threadCount();
+  std::array<double, kMaxThreads> sums{};
+  parallelRanges(parts, count, [&](int part, int begin, int end) {
+    double sum = 0.0;
+    for (int e = begin; e < end; ++e) sum += tetValue(e);
+    sums[part] = sum;
+  });
+  double sum = 0.0;
+  for (int part = 0; part < parts; ++part) sum += sums[part];
+  return sum;
+}
+
+// Calls addTet(e) for every tet: in mesh order on one thread, by colour on several.
+// addTet(e) may add into the rows of the nodes of tet e only.
+template <class AddTet>
+void forEachTetColoured(const SparsePattern& pattern, int count, const AddTet& addTet) {
+  const int parts = threadCount();
+  if (parts == 1 || pattern.tetsByColour().size() != static_cast<size_t>(count)) {
+    for (int e = 0; e < count; ++e) addTet(e);
+    return;
+  }
+  const std::vector<int>& order = pattern.tetsByColour();
+  parallelGroups(parts, pattern.colourStarts(), [&](int, int begin, int end) {
+    for (int i = begin; i < end; ++i) addTet(order[i]);
+  });
+}
+
+}  // namespace tt

@@ -1,0 +1,163 @@
+// The threaded tet loops (parallel.h, tet_loops.h): the tet colouring is valid, and the
+// forces, energies and stiffness of every tet model on 2 and 3 threads agree with 1 thread
+// to round-off and are bitwise identical from one run to the next.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <memory>
+#include <set>
+
+#include "model_test_util.h"
+#include "tissue_trainer/core/integrate/backward_euler.h"
+#include "tissue_trainer/core/model/edge_length.h"
+#include "tissue_trainer/core/model/stvk_displacement.h"
+#include "tissue_trainer/core/model/tensor_mass.h"
+#include "tissue_trainer/core/parallel.h"
+
+namespace tt {
+namespace {
+
+using namespace testutil;
+
+// Sets the thread count for one scope and restores the previous one.
+class ThreadScope {
+ public:
+  explicit ThreadScope(int threads) : previous_(threadCount()) { setThreadCount(threads); }
+  ~ThreadScope() { setThreadCount(previous_); }
+
+ private:
+  int previous_;
+};
+
+bool bitwiseEqual(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  return a.size() == b.size() &&
+         std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<size_t>(a.size())) == 0;
+}
+
+struct Evaluation {
+  Eigen::VectorXd force, stiffness;  // stiffness: K's value array
+  double addForceEnergy = 0.0, energy = 0.0;
+};
+
+Evaluation evaluate(const ForceModel& model, const SparsePattern& pattern,
+                    const Eigen::VectorXd& x, int threads) {
+  ThreadScope scope(threads);
+  Evaluation out;
+  // A non-zero starting force: the models add into f.
+  out.force = Eigen::VectorXd::LinSpaced(x.size(), -1.0, 1.0);
+  out.addForceEnergy = model.addForce(x, Eigen::VectorXd::Zero(x.size()), out.force);
+  out.energy = model.energy(x);
+  SparseMatrix K = pattern.zeroMatrix();
+  model.addStiffness(x, 0.7, pattern, K);
+  out.stiffness = Eigen::Map<const Eigen::VectorXd>(K.valuePtr(), K.nonZeros());
+  return out;
+}
+
+TEST(Parallel, ThreadCountIsClampedAndDefaultsToOne) {
+  EXPECT_EQ(threadCount(), 1);
+  {
+    ThreadScope scope(0);
+    EXPECT_EQ(threadCount(), 1);
+  }
+  {
+    ThreadScope scope(1000);
+    EXPECT_LE(threadCount(), kMaxThreads);
+  }
+  EXPECT_EQ(threadCount(), 1);
+}
+
+TEST(Parallel, RangesCoverEveryItemOnceForAnyPartCount) {
+  for (int parts : {1, 2, 3, 7}) {
+    ThreadScope scope(parts);
+    std::vector<int> hits(101, 0);
+    parallelRanges(parts, 101, [&](int, int begin, int end) {
+      for (int i = begin; i < end; ++i) ++hits[i];
+    });
+    for (int h : hits) EXPECT_EQ(h, 1) << parts << " parts";
+  }
+}
+
+TEST(Parallel, TetColouringIsAPartitionWithoutSharedNodes) {
+  std::mt19937 rng(3);
+  const Mesh m = boxMesh(5, 4, 3, 0.01, rng);
+  const SparsePattern pattern(m.numNodes(), m.tets);
+  const auto& order = pattern.tetsByColour();
+  const auto& starts = pattern.colourStarts();
+  ASSERT_EQ(order.size(), m.tets.size());
+  ASSERT_GE(starts.size(), 2u);
+  EXPECT_EQ(starts.front(), 0);
+  EXPECT_EQ(starts.back(), m.numTets());
+  std::vector<int> seen(m.tets.size(), 0);
+  for (size_t c = 0; c + 1 < starts.size(); ++c) {
+    EXPECT_LT(starts[c], starts[c + 1]) << "empty colour " << c;
+    std::set<int> nodes;
+    for (int i = starts[c]; i < starts[c + 1]; ++i) {
+      ++seen[order[i]];
+      for (int a : m.tets[order[i]]) EXPECT_TRUE(nodes.insert(a).second) << "colour " << c;
+    }
+  }
+  for (int s : seen) EXPECT_EQ(s, 1);
+  // A 6-tet box grid needs more than the 4 colours of one tet and far fewer than its tets.
+  EXPECT_GT(starts.size() - 1, 4u);
+  EXPECT_LT(starts.size() - 1, 64u);
+}
+
+TEST(Parallel, ModelsAgreeAcrossThreadCountsAndRepeatBitwise) {
+  std::mt19937 rng(17);
+  const Mesh m = boxMesh(6, 5, 4, 0.01, rng);
+  const auto mats = testMaterials();
+  std::vector<std::unique_ptr<ForceModel>> models;
+  models.push_back(std::make_unique<EdgeLengthModel>(m, mats, EdgeLengthPath::kFast));
+  models.push_back(std::make_unique<EdgeLengthModel>(m, mats, EdgeLengthPath::kLiteral));
+  models.push_back(std::make_unique<StvkDisplacementModel>(m, mats, AlphaSign::kCorrect));
+  models.push_back(std::make_unique<StvkDisplacementModel>(m, mats, AlphaSign::kPaperLiteral));
+  models.push_back(std::make_unique<TensorMassModel>(m, mats));
+  const SparsePattern pattern(m.numNodes(), m.tets);
+  const Eigen::VectorXd x = perturbed(m, 0.001, rng);
+  for (const auto& model : models) {
+    const Evaluation one = evaluate(*model, pattern, x, 1);
+    ASSERT_GT(one.stiffness.lpNorm<Eigen::Infinity>(), 0.0);
+    for (int threads : {2, 3}) {
+      const Evaluation a = evaluate(*model, pattern, x, threads);
+      const Evaluation b = evaluate(*model, pattern, x, threads);
+      const std::string what = std::string(model->name()) + ", " + std::to_string(threads) + " threads";
+      // The force starts at O(1) values: compare the models' part of it.
+      const Eigen::VectorXd start = Eigen::VectorXd::LinSpaced(x.size(), -1.0, 1.0);
+      EXPECT_LT(relDiff(Eigen::VectorXd(a.force - start), Eigen::VectorXd(one.force - start)), 1e-12)
+          << what;
+      EXPECT_LT(relDiff(a.stiffness, one.stiffness), 1e-13) << what;
+      EXPECT_NEAR(a.energy, one.energy, 1e-13 * std::abs(one.energy)) << what;
+      EXPECT_NEAR(a.addForceEnergy, one.addForceEnergy, 1e-13 * std::abs(one.energy)) << what;
+      EXPECT_TRUE(bitwiseEqual(a.force, b.force)) << what;
+      EXPECT_TRUE(bitwiseEqual(a.stiffness, b.stiffness)) << what;
+      EXPECT_EQ(a.energy, b.energy) << what;
+    }
+  }
+}
+
+TEST(Parallel, BackwardEulerStepsAgreeOnOneAndTwoThreads) {
+  std::mt19937 rng(29);
+  Mesh m = boxMesh(5, 3, 3, 0.01, rng);
+  for (int a = 0; a < m.numNodes(); ++a)
+    if (m.rest(0, a) < 0.002) m.nodeTags[a] = kFixedAll;
+  auto run = [&](int threads) {
+    ThreadScope scope(threads);
+    System s(m, testMaterials());
+    s.models.push_back(std::make_unique<EdgeLengthModel>(s.mesh, s.materials));
+    s.externalForce.setZero();
+    for (int a = 0; a < s.numNodes(); ++a) s.externalForce[3 * a + 2] = -1e-3;
+    BackwardEulerParams p;
+    p.linearTolerance = 1e-12;
+    BackwardEulerIntegrator integrator(p);
+    for (int step = 0; step < 5; ++step) EXPECT_TRUE(integrator.advance(s, 0.01).ok);
+    return s.state.x;
+  };
+  const Eigen::VectorXd rest = restVector(m);
+  const Eigen::VectorXd one = run(1), two = run(2);
+  ASSERT_GT((one - rest).lpNorm<Eigen::Infinity>(), 1e-6);
+  EXPECT_LT(relDiff(Eigen::VectorXd(two - rest), Eigen::VectorXd(one - rest)), 1e-9);
+  EXPECT_TRUE(bitwiseEqual(two, run(2)));
+}
+
+}  // namespace
+}  // namespace tt
