@@ -78,7 +78,7 @@ TEST(ForceExtrapolator, SignOfStiffnessWithOneDimensionalSpring) {
   Matrix3d K = Matrix3d::Zero();
   K(2, 2) = k;
   ForceExtrapolator fx(noBlend());
-  fx.submit(contact(1, Vector3d(0, 0, -0.005), Vector3d(0, 0, 2.0), K), 0.0);
+  fx.submit(contact(1, Vector3d(0, 0, -0.005), Vector3d(0, 0, 2.0), K), 0.0, Vector3d::Zero());
   EXPECT_NEAR(fx.force(Vector3d(0, 0, -0.008), 0.001).z(), 3.2, 1e-14);  // deeper: pushes harder
   EXPECT_NEAR(fx.force(Vector3d(0, 0, -0.002), 0.001).z(), 0.8, 1e-14);  // shallower: softer
   EXPECT_NEAR(fx.force(Vector3d(0.01, 0.02, -0.005), 0.001).z(), 2.0, 1e-14);  // tangential: same
@@ -89,7 +89,7 @@ TEST(ForceExtrapolator, LinearSpringIsReproducedExactlyForAnyPosition) {
   for (int trial = 0; trial < 20; ++trial) {
     const SpringTissue spring = randomSpring(rng);
     ForceExtrapolator fx(noBlend());
-    fx.submit(spring.model(1, randomVector(rng, 0.02)), 0.0);
+    fx.submit(spring.model(1, randomVector(rng, 0.02)), 0.0, Vector3d::Zero());
     for (int i = 0; i < 50; ++i) {
       const Vector3d x = randomVector(rng, i < 25 ? 0.02 : 1.0);  // near and far from x0
       const Vector3d exact = spring.force(x);
@@ -101,18 +101,49 @@ TEST(ForceExtrapolator, LinearSpringIsReproducedExactlyForAnyPosition) {
 TEST(ForceExtrapolator, BlendOfTwoModelsOfOneLinearSpringIsStillExact) {
   // Both models describe the same field from different anchor points, so every blend of
   // them, including one interrupted by a third model, must be that field.
-  std::mt19937 rng(8);
-  const SpringTissue spring = randomSpring(rng);
-  ForceExtrapolator fx;  // default: 15 ms smoothstep blend
-  fx.submit(spring.model(1, randomVector(rng, 0.02)), 0.0);
-  fx.submit(spring.model(2, randomVector(rng, 0.02)), 0.100);
-  fx.submit(spring.model(3, randomVector(rng, 0.02)), 0.107);  // mid-blend
-  for (double t : {0.0, 0.005, 0.1, 0.104, 0.107, 0.110, 0.2}) {
-    const Vector3d x = randomVector(rng, 0.05);
-    const Vector3d exact = spring.force(x);
-    if (t < 0.0149) continue;  // the first model fades in from zero
-    EXPECT_LE((fx.force(x, t) - exact).norm(), 1e-12 * (1.0 + exact.norm())) << "t=" << t;
+  for (BlendMethod method : {BlendMethod::kFields, BlendMethod::kOffset}) {
+    std::mt19937 rng(8);
+    const SpringTissue spring = randomSpring(rng);
+    ExtrapolatorOptions o;  // 15 ms smoothstep
+    o.blendMethod = method;
+    ForceExtrapolator fx(o);
+    fx.submit(spring.model(1, randomVector(rng, 0.02)), 0.0, randomVector(rng, 0.02));
+    fx.submit(spring.model(2, randomVector(rng, 0.02)), 0.100, randomVector(rng, 0.02));
+    fx.submit(spring.model(3, randomVector(rng, 0.02)), 0.107, randomVector(rng, 0.02));  // mid-blend
+    for (double t : {0.1, 0.104, 0.107, 0.110, 0.2}) {
+      const Vector3d x = randomVector(rng, 0.05);
+      const Vector3d exact = spring.force(x);
+      EXPECT_LE((fx.force(x, t) - exact).norm(), 1e-12 * (1.0 + exact.norm())) << "t=" << t;
+      EXPECT_LE((fx.field(t).at(x) - exact).norm(), 1e-12 * (1.0 + exact.norm())) << "t=" << t;
+    }
   }
+}
+
+TEST(ForceExtrapolator, OffsetBlendUsesTheNewFieldPlusTheFadingJump) {
+  // Old model: 2 N along z, K = 100 I at x0 = 0. New model: 1 N, K = 400 I at x0 = 0.
+  // The device is at xs = (0, 0, -0.01) when the new model arrives, and moves on.
+  ExtrapolatorOptions o;
+  o.blendTime = 0.02;
+  o.blendShape = BlendShape::kLinear;
+  const Vector3d xs(0, 0, -0.01), x(0, 0, -0.02);
+  const auto oldF = [](const Vector3d& p) { return Vector3d(Vector3d(0, 0, 2) - 100.0 * p); };
+  const auto newF = [](const Vector3d& p) { return Vector3d(Vector3d(0, 0, 1) - 400.0 * p); };
+  for (BlendMethod method : {BlendMethod::kFields, BlendMethod::kOffset}) {
+    o.blendMethod = method;
+    ForceExtrapolator fx(o);
+    fx.submit(contact(1, Vector3d::Zero(), Vector3d(0, 0, 2), 100.0 * Matrix3d::Identity()), 0.0, xs);
+    fx.submit(contact(2, Vector3d::Zero(), Vector3d(0, 0, 1), 400.0 * Matrix3d::Identity()), 1.0, xs);
+    EXPECT_NEAR((fx.force(xs, 1.0) - oldF(xs)).norm(), 0.0, 1e-12);  // no jump at xs
+    const Vector3d expected = method == BlendMethod::kOffset
+                                  ? Vector3d(newF(x) + 0.5 * (oldF(xs) - newF(xs)))
+                                  : Vector3d(0.5 * oldF(x) + 0.5 * newF(x));
+    EXPECT_NEAR((fx.force(x, 1.01) - expected).norm(), 0.0, 1e-12);
+    EXPECT_NEAR((fx.field(1.01).at(x) - expected).norm(), 0.0, 1e-12);
+  }
+  o.blendMethod = BlendMethod::kOffset;
+  ForceExtrapolator fx(o);
+  const Vector3d nan(kNaN, 0, 0);
+  EXPECT_EQ(fx.submit(contact(1, Vector3d::Zero(), Vector3d(0, 0, 2)), 0.0, nan), ModelVerdict::kMalformed);
 }
 
 TEST(ForceExtrapolator, BlendWeightsLinearAndSmoothstep) {
@@ -121,8 +152,8 @@ TEST(ForceExtrapolator, BlendWeightsLinearAndSmoothstep) {
     o.blendTime = 0.02;
     o.blendShape = shape;
     ForceExtrapolator fx(o);
-    fx.submit(contact(1, Vector3d::Zero(), Vector3d(1, 0, 0)), 0.0);
-    fx.submit(contact(2, Vector3d::Zero(), Vector3d(3, 0, 0)), 1.0);
+    fx.submit(contact(1, Vector3d::Zero(), Vector3d(1, 0, 0)), 0.0, Vector3d::Zero());
+    fx.submit(contact(2, Vector3d::Zero(), Vector3d(3, 0, 0)), 1.0, Vector3d::Zero());
     const Vector3d x = Vector3d::Zero();
     const bool lin = shape == BlendShape::kLinear;
     EXPECT_NEAR(fx.force(x, 1.0).x(), 1.0, 1e-12);
@@ -140,7 +171,7 @@ TEST(ForceExtrapolator, FirstModelFadesInFromZero) {
   o.blendShape = BlendShape::kLinear;
   ForceExtrapolator fx(o);
   EXPECT_EQ(fx.force(Vector3d::Zero(), 0.0), Vector3d::Zero());
-  fx.submit(contact(1, Vector3d::Zero(), Vector3d(0, 0, 2)), 0.5);
+  fx.submit(contact(1, Vector3d::Zero(), Vector3d(0, 0, 2)), 0.5, Vector3d::Zero());
   EXPECT_DOUBLE_EQ(fx.force(Vector3d::Zero(), 0.5).z(), 0.0);
   EXPECT_DOUBLE_EQ(fx.force(Vector3d::Zero(), 0.505).z(), 1.0);
   EXPECT_NEAR(fx.force(Vector3d::Zero(), 0.510).z(), 2.0, 1e-12);
@@ -150,7 +181,7 @@ TEST(ForceExtrapolator, ZeroOrderHoldIgnoresStiffnessAndPosition) {
   ExtrapolatorOptions o = noBlend();
   o.mode = ExtrapolationMode::kZeroOrderHold;
   ForceExtrapolator fx(o);
-  fx.submit(contact(1, Vector3d(0, 0, -0.01), Vector3d(0, 0, 2), 500.0 * Matrix3d::Identity()), 0.0);
+  fx.submit(contact(1, Vector3d(0, 0, -0.01), Vector3d(0, 0, 2), 500.0 * Matrix3d::Identity()), 0.0, Vector3d::Zero());
   EXPECT_EQ(fx.force(Vector3d(0.3, -0.2, -0.05), 0.001), Vector3d(0, 0, 2));
 }
 
@@ -159,9 +190,9 @@ TEST(ForceExtrapolator, NoContactMeansZeroForceStillBlended) {
   o.blendTime = 0.02;
   o.blendShape = BlendShape::kLinear;
   ForceExtrapolator fx(o);
-  fx.submit(contact(1, Vector3d::Zero(), Vector3d(0, 0, 2), 100.0 * Matrix3d::Identity()), 0.0);
+  fx.submit(contact(1, Vector3d::Zero(), Vector3d(0, 0, 2), 100.0 * Matrix3d::Identity()), 0.0, Vector3d::Zero());
   // Out of contact: f0 and K are ignored even when they hold junk-but-finite numbers.
-  fx.submit(contact(2, Vector3d::Zero(), Vector3d(9, 9, 9), 7.0 * Matrix3d::Identity(), false), 1.0);
+  fx.submit(contact(2, Vector3d::Zero(), Vector3d(9, 9, 9), 7.0 * Matrix3d::Identity(), false), 1.0, Vector3d::Zero());
   EXPECT_DOUBLE_EQ(fx.force(Vector3d::Zero(), 1.0).z(), 2.0);
   EXPECT_NEAR(fx.force(Vector3d::Zero(), 1.01).z(), 1.0, 1e-12);
   EXPECT_EQ(fx.force(Vector3d(0.1, 0.1, 0.1), 1.02), Vector3d::Zero());
@@ -172,7 +203,7 @@ TEST(ForceExtrapolator, MalformedModelsAreCountedAndTheOldOneKept) {
   o.maxStiffness = 1e5;
   ForceExtrapolator fx(o);
   const Matrix3d K = 200.0 * Matrix3d::Identity();
-  ASSERT_EQ(fx.submit(contact(1, Vector3d::Zero(), Vector3d(0, 0, 1), K), 0.0), ModelVerdict::kAccepted);
+  ASSERT_EQ(fx.submit(contact(1, Vector3d::Zero(), Vector3d(0, 0, 1), K), 0.0, Vector3d::Zero()), ModelVerdict::kAccepted);
   std::vector<ContactModel> bad(6, contact(2, Vector3d::Zero(), Vector3d(0, 0, 4), K));
   bad[0].K(1, 2) = kNaN;
   bad[1].f0.x() = kInf;
@@ -180,31 +211,31 @@ TEST(ForceExtrapolator, MalformedModelsAreCountedAndTheOldOneKept) {
   bad[3].stamp = kNaN;
   bad[4].simTime = kInf;
   bad[5].K(0, 0) = 2e5;  // finite but above maxStiffness
-  for (const ContactModel& m : bad) EXPECT_EQ(fx.submit(m, 0.5), ModelVerdict::kMalformed);
-  EXPECT_EQ(fx.submit(contact(2, Vector3d::Zero(), Vector3d(0, 0, 4), K), kNaN), ModelVerdict::kMalformed);
+  for (const ContactModel& m : bad) EXPECT_EQ(fx.submit(m, 0.5, Vector3d::Zero()), ModelVerdict::kMalformed);
+  EXPECT_EQ(fx.submit(contact(2, Vector3d::Zero(), Vector3d(0, 0, 4), K), kNaN, Vector3d::Zero()), ModelVerdict::kMalformed);
   EXPECT_EQ(fx.counters().malformed, 7u);
   EXPECT_EQ(fx.counters().accepted, 1u);
   EXPECT_DOUBLE_EQ(fx.force(Vector3d::Zero(), 0.6).z(), 1.0);
   EXPECT_DOUBLE_EQ(fx.modelAge(0.6), 0.6);  // a rejected model does not feed the watchdog
   // The same sequence number, well formed, is still welcome.
-  EXPECT_EQ(fx.submit(contact(2, Vector3d::Zero(), Vector3d(0, 0, 4), K), 0.7), ModelVerdict::kAccepted);
+  EXPECT_EQ(fx.submit(contact(2, Vector3d::Zero(), Vector3d(0, 0, 4), K), 0.7, Vector3d::Zero()), ModelVerdict::kAccepted);
   EXPECT_DOUBLE_EQ(fx.force(Vector3d::Zero(), 0.7).z(), 4.0);
 }
 
 TEST(ForceExtrapolator, OutOfOrderAndDuplicateSequencesAreDropped) {
   ForceExtrapolator fx(noBlend());
-  EXPECT_EQ(fx.submit(contact(10, Vector3d::Zero(), Vector3d(0, 0, 1)), 0.0), ModelVerdict::kAccepted);
-  EXPECT_EQ(fx.submit(contact(10, Vector3d::Zero(), Vector3d(0, 0, 2)), 0.1), ModelVerdict::kStaleSequence);
-  EXPECT_EQ(fx.submit(contact(9, Vector3d::Zero(), Vector3d(0, 0, 3)), 0.2), ModelVerdict::kStaleSequence);
+  EXPECT_EQ(fx.submit(contact(10, Vector3d::Zero(), Vector3d(0, 0, 1)), 0.0, Vector3d::Zero()), ModelVerdict::kAccepted);
+  EXPECT_EQ(fx.submit(contact(10, Vector3d::Zero(), Vector3d(0, 0, 2)), 0.1, Vector3d::Zero()), ModelVerdict::kStaleSequence);
+  EXPECT_EQ(fx.submit(contact(9, Vector3d::Zero(), Vector3d(0, 0, 3)), 0.2, Vector3d::Zero()), ModelVerdict::kStaleSequence);
   EXPECT_DOUBLE_EQ(fx.force(Vector3d::Zero(), 0.3).z(), 1.0);
   EXPECT_DOUBLE_EQ(fx.modelAge(0.3), 0.3);
-  EXPECT_EQ(fx.submit(contact(13, Vector3d::Zero(), Vector3d(0, 0, 5)), 0.4), ModelVerdict::kAccepted);
+  EXPECT_EQ(fx.submit(contact(13, Vector3d::Zero(), Vector3d(0, 0, 5)), 0.4, Vector3d::Zero()), ModelVerdict::kAccepted);
   EXPECT_DOUBLE_EQ(fx.force(Vector3d::Zero(), 0.4).z(), 5.0);
   EXPECT_EQ(fx.counters().staleSequence, 2u);
   EXPECT_EQ(fx.counters().accepted, 2u);
   fx.reset();  // a restarted simulation starts its sequence again
   EXPECT_EQ(fx.modelAge(0.5), kInf);
-  EXPECT_EQ(fx.submit(contact(1, Vector3d::Zero(), Vector3d(0, 0, 1)), 0.5), ModelVerdict::kAccepted);
+  EXPECT_EQ(fx.submit(contact(1, Vector3d::Zero(), Vector3d(0, 0, 1)), 0.5, Vector3d::Zero()), ModelVerdict::kAccepted);
 }
 
 TEST(ForceExtrapolator, InvalidOptionsThrow) {
@@ -218,10 +249,12 @@ TEST(ForceExtrapolator, InvalidOptionsThrow) {
   EXPECT_THROW(ForceExtrapolator{o}, std::invalid_argument);
 }
 
-// Largest output change between 1 kHz ticks while random models (|f0| <= fmax, K up to
-// 500 N/m, x0 within 1 cm) arrive at random intervals of 1 to 40 ms, some mid-blend, and the
-// device stays at the origin.
-double largestStepUnderAbruptModels(const ExtrapolatorOptions& o, double fmax, unsigned seed) {
+// Largest output change between 1 kHz ticks while random models (force at the origin up to
+// fmax, K = k I with k up to kMax, x0 within 1 cm) arrive at random intervals of 1 to 40 ms,
+// some mid-blend, and the device moves as amplitude * (sin, cos, sin)(2 pi t) about the origin.
+constexpr double kMax = 500.0;
+double largestStepUnderAbruptModels(const ExtrapolatorOptions& o, double fmax, double amplitude,
+                                    unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> gap(0.001, 0.040), unit(0.0, 1.0);
   ForceExtrapolator fx(o);
@@ -230,16 +263,17 @@ double largestStepUnderAbruptModels(const ExtrapolatorOptions& o, double fmax, u
   Vector3d previous = Vector3d::Zero();
   for (int i = 0; i < 20000; ++i) {
     const double t = 1e-3 * i;
+    const double phase = 2.0 * M_PI * t;
+    const Vector3d x = amplitude * Vector3d(std::sin(phase), std::cos(phase), std::sin(phase));
     while (nextArrival <= t) {
-      // f0 - K x0 is the force at the origin: draw that, then f0 to match.
       const Vector3d x0 = randomVector(rng, 0.01);
-      const Matrix3d K = 500.0 * unit(rng) * Matrix3d::Identity();
+      const Matrix3d K = kMax * unit(rng) * Matrix3d::Identity();
       Vector3d atOrigin = randomVector(rng, 1.0);
       atOrigin *= fmax * std::sqrt(unit(rng)) / atOrigin.norm();
-      fx.submit(contact(++seq, x0, atOrigin + K * (-x0), K, unit(rng) > 0.1), t);
+      fx.submit(contact(++seq, x0, atOrigin - K * x0, K, unit(rng) > 0.1), t, x);
       nextArrival += gap(rng);
     }
-    const Vector3d out = fx.force(Vector3d::Zero(), t);
+    const Vector3d out = fx.force(x, t);
     if (i > 0) largest = std::max(largest, (out - previous).norm());
     previous = out;
   }
@@ -247,22 +281,34 @@ double largestStepUnderAbruptModels(const ExtrapolatorOptions& o, double fmax, u
 }
 
 TEST(ForceExtrapolator, BlendingKeepsAbruptModelChangesWithinTheRateLimit) {
-  // Any two forces here differ by at most 2 fmax, and the blend weight moves at most
-  // 1.5 dt / T per tick (smoothstep), so a tick step is at most 3 fmax dt / T: 1 N with
-  // fmax = 5 N, T = 15 ms, which is what SafetyOptions' default 1000 N/s allows per ms.
+  // Device at rest: any two forces differ by at most 2 fmax and the blend weight moves at
+  // most 1.5 dt / T per tick (smoothstep; 1 for linear), so a tick step is at most
+  // 3 fmax dt / T: 1 N with fmax = 5 N, T = 15 ms, what SafetyOptions' 1000 N/s allows per ms.
   const double fmax = 5.0, dt = 1e-3;
   const double rateLimitStep = SafetyOptions().maxForceRate * dt;
-  ExtrapolatorOptions smooth;  // 15 ms smoothstep
-  ExtrapolatorOptions linear;
-  linear.blendShape = BlendShape::kLinear;
-  for (unsigned seed : {1u, 2u, 3u}) {
-    const double stepSmooth = largestStepUnderAbruptModels(smooth, fmax, seed);
-    const double stepLinear = largestStepUnderAbruptModels(linear, fmax, seed);
-    EXPECT_LE(stepSmooth, 3.0 * fmax * dt / smooth.blendTime + 1e-12);
-    EXPECT_LE(stepLinear, 2.0 * fmax * dt / linear.blendTime + 1e-12);
-    EXPECT_LE(stepSmooth, rateLimitStep + 1e-12);
-    // Without the blend the same models make steps of several newtons.
-    EXPECT_GT(largestStepUnderAbruptModels(noBlend(), fmax, seed), 3.0 * rateLimitStep);
+  for (BlendMethod method : {BlendMethod::kFields, BlendMethod::kOffset}) {
+    ExtrapolatorOptions smooth;  // 15 ms smoothstep
+    smooth.blendMethod = method;
+    ExtrapolatorOptions linear = smooth;
+    linear.blendShape = BlendShape::kLinear;
+    for (unsigned seed : {1u, 2u, 3u}) {
+      const double stepSmooth = largestStepUnderAbruptModels(smooth, fmax, 0.0, seed);
+      const double stepLinear = largestStepUnderAbruptModels(linear, fmax, 0.0, seed);
+      EXPECT_LE(stepSmooth, 3.0 * fmax * dt / smooth.blendTime + 1e-12);
+      EXPECT_LE(stepLinear, 2.0 * fmax * dt / linear.blendTime + 1e-12);
+      EXPECT_LE(stepSmooth, rateLimitStep + 1e-12);
+      // Without the blend the same models make steps of several newtons.
+      EXPECT_GT(largestStepUnderAbruptModels(noBlend(), fmax, 0.0, seed), 3.0 * rateLimitStep);
+
+      // Device moving (2 mm, 1 Hz): the fields now span 2 R with R = fmax + kMax |x|max, the
+      // offset method's remembered force may be off by kMax times the travel in a blend,
+      // and the device's own motion adds kMax |dx| per tick.
+      const double amp = 0.002, xMax = std::sqrt(3.0) * amp, dxMax = 2.0 * M_PI * xMax * dt;
+      const double R = fmax + kMax * xMax;
+      const double bound = 1.5 * dt / smooth.blendTime * (2.0 * R + 2.0 * kMax * xMax) + kMax * dxMax;
+      EXPECT_LE(largestStepUnderAbruptModels(smooth, fmax, amp, seed), bound);
+      EXPECT_GT(largestStepUnderAbruptModels(noBlend(), fmax, amp, seed), 2.0 * bound);
+    }
   }
 }
 
@@ -305,13 +351,20 @@ TEST(WallProbe, LinearExtrapolationBeatsZeroOrderHoldOnANonlinearWall) {
   const ForceErrorStats hold = measureExtrapolationError(probe, zoh);
   const ForceErrorStats linear = measureExtrapolationError(probe, noBlend());
   const ForceErrorStats blended = measureExtrapolationError(probe, ExtrapolatorOptions());
+  ExtrapolatorOptions fieldsOptions;
+  fieldsOptions.blendMethod = BlendMethod::kFields;
+  const ForceErrorStats fields = measureExtrapolationError(probe, fieldsOptions);
   // The scenario must actually be hard for the hold: errors of several percent of the force.
   EXPECT_GT(hold.rms, 0.05 * hold.rmsForce);
   EXPECT_LT(linear.rms, 0.3 * hold.rms);
   EXPECT_LT(blended.rms, 0.3 * hold.rms);
   EXPECT_LT(linear.max, 0.3 * hold.max);
-  // The blend smooths the steps at model arrivals.
-  EXPECT_LT(blended.maxStep, linear.maxStep);
+  EXPECT_LT(fields.rms, 0.3 * hold.rms);
+  // The blend smooths the steps at model arrivals; fading the offset lags less than
+  // blending the fields, at the same smoothing.
+  EXPECT_LT(blended.maxStep, 0.7 * linear.maxStep);
+  EXPECT_LT(blended.rms, fields.rms);
+  EXPECT_LT(std::abs(blended.maxStep - fields.maxStep), 0.1 * fields.maxStep);
 }
 
 TEST(WallProbe, MeasuredOrdersInTheSimulationPeriod) {
@@ -543,7 +596,7 @@ TEST(HapticPipeline, SpringContactReachesTheDeviceAfterStartUp) {
   for (int i = 0; i < 1000; ++i) {
     const double t = 1e-3 * i;
     const Vector3d x = 0.01 * Vector3d(std::sin(3 * t), std::cos(2 * t), 0.5 * std::sin(t));
-    if (i % 20 == 0) pipeline.submit(spring.model(++seq, x), t);
+    if (i % 20 == 0) pipeline.submit(spring.model(++seq, x), t, x);
     const Vector3d out = pipeline.tick(x, t, true);
     if (t > 0.2) worst = std::max(worst, (out - spring.force(x)).norm());
   }

@@ -30,9 +30,11 @@ double ForceExtrapolator::blendWeight(double tNow) const {
   return options_.blendShape == BlendShape::kSmoothstep ? s * s * (3.0 - 2.0 * s) : s;
 }
 
-ModelVerdict ForceExtrapolator::submit(const ContactModel& model, double tReceive) {
+ModelVerdict ForceExtrapolator::submit(const ContactModel& model, double tReceive,
+                                       const Eigen::Vector3d& xDevice) {
   const bool tooStiff = model.K.allFinite() && model.K.norm() > options_.maxStiffness;
-  if (!model.isFinite() || !std::isfinite(tReceive) || tooStiff) {
+  const bool xUsable = options_.blendMethod == BlendMethod::kFields || xDevice.allFinite();
+  if (!model.isFinite() || !std::isfinite(tReceive) || tooStiff || !xUsable) {
     ++counters_.malformed;
     return ModelVerdict::kMalformed;
   }
@@ -40,14 +42,14 @@ ModelVerdict ForceExtrapolator::submit(const ContactModel& model, double tReceiv
     ++counters_.staleSequence;
     return ModelVerdict::kStaleSequence;
   }
-  const LinearForceField next = fieldOf(model);
-  // Blend from what the hand feels right now (itself possibly a blend), so a model arriving
+  // Blend from what the hand feels right now (itself possibly mid-blend), so a model arriving
   // mid-blend does not make a step either. The first model fades in from zero.
-  if (hasModel_) {
-    from_ = LinearForceField::blend(from_, to_, blendWeight(tReceive));
+  const LinearForceField next = fieldOf(model);
+  const LinearForceField felt = field(tReceive);
+  if (options_.blendMethod == BlendMethod::kFields) {
+    from_ = felt;
   } else {
-    from_ = LinearForceField();
-    from_.x0 = next.x0;
+    offset_ = felt.at(xDevice) - next.at(xDevice);
   }
   to_ = next;
   blendStart_ = tReceive;
@@ -62,12 +64,17 @@ Eigen::Vector3d ForceExtrapolator::force(const Eigen::Vector3d& x, double tNow) 
   if (!hasModel_) return Eigen::Vector3d::Zero();
   const double w = blendWeight(tNow);
   if (w >= 1.0) return to_.at(x);
+  if (options_.blendMethod == BlendMethod::kOffset) return to_.at(x) + (1.0 - w) * offset_;
   return (1.0 - w) * from_.at(x) + w * to_.at(x);
 }
 
 LinearForceField ForceExtrapolator::field(double tNow) const {
   if (!hasModel_) return LinearForceField();
-  return LinearForceField::blend(from_, to_, blendWeight(tNow));
+  const double w = blendWeight(tNow);
+  if (options_.blendMethod == BlendMethod::kFields) return LinearForceField::blend(from_, to_, w);
+  LinearForceField f = to_;
+  if (w < 1.0) f.f0 += (1.0 - w) * offset_;
+  return f;
 }
 
 double ForceExtrapolator::modelAge(double tNow) const {
@@ -78,6 +85,7 @@ double ForceExtrapolator::modelAge(double tNow) const {
 void ForceExtrapolator::reset() {
   from_ = LinearForceField();
   to_ = LinearForceField();
+  offset_.setZero();
   blendStart_ = lastReceive_ = 0.0;
   lastSequence_ = 0;
   hasModel_ = false;

@@ -23,6 +23,9 @@ Eigen::Vector3d projectOntoBall(const Eigen::Vector3d& v, double r) {
 }  // namespace
 
 Eigen::Vector3d clampMagnitude(const Eigen::Vector3d& v, double m) {
+  const double norm2 = v.squaredNorm();
+  if (norm2 <= m * m) return v;
+  if (std::isfinite(norm2) && norm2 > 1e-300) return v * (m / std::sqrt(norm2));
   const double largest = v.cwiseAbs().maxCoeff();
   if (largest == 0.0) return v;
   const Eigen::Vector3d unitish = v / largest;  // no overflow in the norm of huge vectors

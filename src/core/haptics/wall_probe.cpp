@@ -53,12 +53,12 @@ ForceErrorStats measureExtrapolationError(const WallProbe& probe, const Extrapol
     const double t = i * probe.hapticPeriod;
     // Deliver every model whose arrival time has come (the tolerance keeps coincident
     // arrivals and ticks from depending on round-off).
+    const Eigen::Vector3d x = probe.device(t);
     while (nextSample * probe.simPeriod + probe.latency <= t + 1e-9) {
       const double sampled = nextSample * probe.simPeriod;
-      extrapolator.submit(probe.wall.model(probe.device(sampled), nextSample + 1, sampled), t);
+      extrapolator.submit(probe.wall.model(probe.device(sampled), nextSample + 1, sampled), t, x);
       ++nextSample;
     }
-    const Eigen::Vector3d x = probe.device(t);
     const Eigen::Vector3d out = extrapolator.force(x, t);
     if (t >= probe.warmup) {
       const Eigen::Vector3d exact = probe.wall.force(x);

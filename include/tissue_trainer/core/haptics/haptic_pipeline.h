@@ -21,8 +21,9 @@ class HapticPipeline {
  public:
   explicit HapticPipeline(const HapticPipelineOptions& options = {});
 
-  ModelVerdict submit(const ContactModel& model, double tReceive) {
-    return extrapolator_.submit(model, tReceive);
+  // A model taken in at tReceive with the device at xDevice (see ForceExtrapolator::submit).
+  ModelVerdict submit(const ContactModel& model, double tReceive, const Eigen::Vector3d& xDevice) {
+    return extrapolator_.submit(model, tReceive, xDevice);
   }
 
   // Device position (m), tick time (s), enable/deadman; returns the force to send (N).
