@@ -142,8 +142,13 @@ TEST(ForceExtrapolator, OffsetBlendUsesTheNewFieldPlusTheFadingJump) {
   }
   o.blendMethod = BlendMethod::kOffset;
   ForceExtrapolator fx(o);
-  const Vector3d nan(kNaN, 0, 0);
-  EXPECT_EQ(fx.submit(contact(1, Vector3d::Zero(), Vector3d(0, 0, 2)), 0.0, nan), ModelVerdict::kMalformed);
+  // A non-finite device position does not cost the model: the jump is taken at its x0.
+  fx.submit(contact(1, Vector3d::Zero(), Vector3d(0, 0, 2), 100.0 * Matrix3d::Identity()), 0.0, xs);
+  EXPECT_EQ(fx.submit(contact(2, Vector3d::Zero(), Vector3d(0, 0, 1), 400.0 * Matrix3d::Identity()), 1.0,
+                      Vector3d(kNaN, 0, 0)),
+            ModelVerdict::kAccepted);
+  EXPECT_NEAR((fx.force(Vector3d::Zero(), 1.0) - oldF(Vector3d::Zero())).norm(), 0.0, 1e-12);
+  EXPECT_TRUE(fx.force(x, 1.01).allFinite());
 }
 
 TEST(ForceExtrapolator, BlendWeightsLinearAndSmoothstep) {

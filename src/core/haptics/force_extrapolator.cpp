@@ -33,8 +33,7 @@ double ForceExtrapolator::blendWeight(double tNow) const {
 ModelVerdict ForceExtrapolator::submit(const ContactModel& model, double tReceive,
                                        const Eigen::Vector3d& xDevice) {
   const bool tooStiff = model.K.allFinite() && model.K.norm() > options_.maxStiffness;
-  const bool xUsable = options_.blendMethod == BlendMethod::kFields || xDevice.allFinite();
-  if (!model.isFinite() || !std::isfinite(tReceive) || tooStiff || !xUsable) {
+  if (!model.isFinite() || !std::isfinite(tReceive) || tooStiff) {
     ++counters_.malformed;
     return ModelVerdict::kMalformed;
   }
@@ -49,7 +48,9 @@ ModelVerdict ForceExtrapolator::submit(const ContactModel& model, double tReceiv
   if (options_.blendMethod == BlendMethod::kFields) {
     from_ = felt;
   } else {
-    offset_ = felt.at(xDevice) - next.at(xDevice);
+    // A broken device reading must not cost a good model: take the jump at x0 instead.
+    const Eigen::Vector3d& xs = xDevice.allFinite() ? xDevice : next.x0;
+    offset_ = felt.at(xs) - next.at(xs);
   }
   to_ = next;
   blendStart_ = tReceive;

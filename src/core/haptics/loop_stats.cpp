@@ -51,6 +51,7 @@ LoopStatsWindow::LoopStatsWindow(std::size_t capacity, double overrunThreshold)
 }
 
 void LoopStatsWindow::record(double tickTime) {
+  if (!std::isfinite(tickTime)) return;  // the safety filter counts clock faults
   if (totalTicks_ > 0 && tickTime - lastTime_ > overrunThreshold_) ++totalOverruns_;
   lastTime_ = tickTime;
   ++totalTicks_;

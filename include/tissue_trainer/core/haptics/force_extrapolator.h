@@ -58,7 +58,8 @@ class ForceExtrapolator {
   explicit ForceExtrapolator(const ExtrapolatorOptions& options = {});
 
   // Offers a model taken in at tReceive (bridge clock), when the device was at xDevice (the
-  // blend starts from the force felt there; kFields does not need it). A malformed model or
+  // blend starts from the force felt there; kFields does not need it, and a non-finite
+  // xDevice is replaced by the model's x0). A malformed model or
   // one whose sequence is not above the last accepted one is dropped and counted; the
   // previous model stays in force.
   ModelVerdict submit(const ContactModel& model, double tReceive, const Eigen::Vector3d& xDevice);

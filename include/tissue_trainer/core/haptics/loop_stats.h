@@ -29,7 +29,7 @@ class LoopStatsWindow {
   // Throws std::invalid_argument for capacity < 2 or a non-positive threshold.
   LoopStatsWindow(std::size_t capacity, double overrunThreshold);
 
-  void record(double tickTime);
+  void record(double tickTime);  // non-finite times are ignored
   LoopStats summary() const;
 
   std::uint64_t totalTicks() const { return totalTicks_; }
