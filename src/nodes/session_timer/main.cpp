@@ -6,7 +6,6 @@
 
 #include <cmath>
 #include <cstdlib>
-#include <string>
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "session_timer");
@@ -19,7 +18,9 @@ int main(int argc, char** argv) {
   }
   ros::NodeHandle node;
   ROS_INFO("session ends in %.1f s", seconds);
-  ros::WallDuration(seconds).sleep();
+  const ros::WallTime end_time = ros::WallTime::now() + ros::WallDuration(seconds);
+  while (ros::ok() && ros::WallTime::now() < end_time) ros::WallDuration(0.05).sleep();
+  if (!ros::ok()) return 0;
   ROS_INFO("session time is over; shutting down");
   return 0;
 }
