@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string>
 
+#include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/mesh/mesh_io.h"
 #include "tissue_trainer/core/model/edge_length.h"
 
@@ -45,6 +46,21 @@ TEST(Cli, InfoReportsCountsOfTheLiver) {
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_NE(r.out.find("181"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("596"), std::string::npos) << r.out;
+}
+
+// Generated grids written as TetGen and Gmsh v4 files: `info` counts what the generator made
+// (nx ny nz nodes, five tets per cell).
+TEST(Cli, InfoCountsGeneratedTetgenAndGmsh4Files) {
+  const Mesh box = boxGrid(4, 3, 5, Eigen::Vector3d(0.03, 0.02, 0.04), TetSplit::kFiveMirrored);
+  const fs::path dir = fs::temp_directory_path() / "tt_cli_generated";
+  fs::create_directories(dir);
+  writeTetgen((dir / "box").string(), box);
+  writeGmsh4((dir / "box_v4.msh").string(), box);
+  for (const std::string file : {"box.node", "box_v4.msh"}) {
+    const Result r = runCli("info " + (dir / file).string());
+    ASSERT_EQ(r.exitCode, 0) << file << ": " << r.err;
+    EXPECT_NE(r.out.find("nodes 60, tets 120,"), std::string::npos) << file << ":\n" << r.out;
+  }
 }
 
 TEST(Cli, ForcesMatchTheCoreModelToTheLastDigit) {
