@@ -39,12 +39,14 @@ Recording record(double window) {
   Recording rec;
   rec.wrenches.reserve(static_cast<std::size_t>(window * 1200));
   bool started = false;
-  auto onWrench = [&](const geometry_msgs::WrenchStamped& m) {
+  auto onWrench = [&](const geometry_msgs::WrenchStamped::ConstPtr& msg) {
+    const auto& m = *msg;
     started = true;
     rec.wrenches.push_back({m.header.stamp.toSec(), m.wrench.force.x, m.wrench.force.y,
                             m.wrench.force.z});
   };
-  auto onContact = [&](const tissue_trainer::ContactModel& m) {
+  auto onContact = [&](const tissue_trainer::ContactModel::ConstPtr& msg) {
+    const auto& m = *msg;
     if (!started) return;
     ++rec.contactModels;
     if (!finite3(m.force.x, m.force.y, m.force.z)) ++rec.nonFiniteContacts;
@@ -52,13 +54,15 @@ Recording record(double window) {
     ++rec.inContact;
     rec.peakContactForce = std::max(rec.peakContactForce, std::hypot(m.force.x, m.force.y, m.force.z));
   };
-  auto onStatus = [&](const tissue_trainer::TissueStatus& m) {
+  auto onStatus = [&](const tissue_trainer::TissueStatus::ConstPtr& msg) {
+    const auto& m = *msg;
     if (!started) return;
     ++rec.statuses;
     rec.unstable += !m.stable;
     rec.behind += m.behind_schedule;
   };
-  auto onImage = [&](const sensor_msgs::Image& m) {
+  auto onImage = [&](const sensor_msgs::Image::ConstPtr& msg) {
+    const auto& m = *msg;
     if (!started) return;
     ++rec.images;
     rec.goodImages += m.width == 640 && m.height == 480 && m.encoding == "rgb8" &&
