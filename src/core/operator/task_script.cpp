@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -24,6 +25,12 @@ std::string phaseList() {
   std::string out;
   for (const auto& p : taskPhases()) out += (out.empty() ? "" : ", ") + p;
   return out;
+}
+
+std::string shortNumber(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", x);
+  return text;
 }
 
 // Minimum-jerk blend s(u) = 10u^3 - 15u^4 + 6u^5 and its derivative ds/du.
@@ -83,8 +90,7 @@ TaskScript TaskScript::load(const std::string& path) {
     k.time = t.number();
     if (i == 0 && k.time != 0.0) t.fail("expected 0 (the task starts at its first keyframe)");
     if (i > 0 && !(k.time > keyframes.back().time))
-      t.fail("expected a time after the previous keyframe's (" +
-             std::to_string(keyframes.back().time) + " s)");
+      t.fail("expected a time after the previous keyframe's (" + shortNumber(keyframes.back().time) + " s)");
     const YamlEntry phase = e["phase"];
     k.phase = phase.text();
     if (!knownPhase(k.phase)) phase.fail("expected one of: " + phaseList() + "; got '" + k.phase + "'");

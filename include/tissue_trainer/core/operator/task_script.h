@@ -36,7 +36,7 @@ class TaskScript {
   // times not strictly increasing, unknown phases, non-finite values or a negative jaw.
   explicit TaskScript(std::vector<Keyframe> keyframes, std::string name = "task");
 
-  // Reads the YAML file (format in README "Task format"); throws InputError.
+  // Reads the YAML file (format in config/tasks/README.md); throws InputError.
   static TaskScript load(const std::string& path);
 
   const std::string& name() const { return name_; }
