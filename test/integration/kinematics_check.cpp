@@ -3,6 +3,7 @@
 // scripted operator (namespace op) publishing the device at >= 950 Hz.
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/TwistStamped.h>
+#include <geometry_msgs/WrenchStamped.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
@@ -109,11 +110,41 @@ TEST(Operator, PublishesTheDeviceAtOneKilohertz) {
   const double rate = (times.size() - 1) / (times.back() - times.front());
   std::printf("operator /device/measured_cp: %zu messages in %.3f s: %.1f Hz\n", times.size(),
               times.back() - times.front(), rate);
+  std::printf("operator: %d device poses matched to /op/instrument/measured_cp by stamp\n", matched);
   EXPECT_GE(rate, 950.0);
   EXPECT_EQ(offShaft, 0);
   EXPECT_GT(matched, 100);  // the kinematics node may drop some under load: not a rate check
   EXPECT_EQ(mismatched, 0);
   EXPECT_TRUE(enabled);
+}
+
+// The hand holds the static target of kinematics_hold_task.yaml; a constant force on it
+// (/device/servo_cf) moves it by force / stiffness (config/operator.yaml: 400 N/m).
+TEST(Operator, ForceOnTheHandDisplacesItByForceOverStiffness) {
+  ros::NodeHandle nh;
+  Eigen::Vector3d last(NAN, NAN, NAN);
+  boost::function<void(const geometry_msgs::PoseStamped::ConstPtr&)> onDevice =
+      [&](const geometry_msgs::PoseStamped::ConstPtr& m) { last = position(m->pose); };
+  ros::Subscriber sub = nh.subscribe<geometry_msgs::PoseStamped>("/op/device/measured_cp", 100, onDevice);
+  ros::Publisher force = nh.advertise<geometry_msgs::WrenchStamped>("/op/device/servo_cf", 10);
+  ASSERT_TRUE(waitFor([&] { return force.getNumSubscribers() > 0 && last.allFinite(); }, 20.0));
+  const Eigen::Vector3d target(-0.035, 0.075, 0.10);
+  EXPECT_LT((last - target).norm(), 2e-6);  // at rest on the target without force
+  geometry_msgs::WrenchStamped w;
+  w.header.frame_id = "world";
+  w.wrench.force.z = 2.0;
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(1.5);
+  while (ros::WallTime::now() < end) {  // 200 Hz, faster than the 0.05 s force timeout
+    w.header.stamp = ros::Time::now();
+    force.publish(w);
+    waitFor([] { return false; }, 0.005);
+  }
+  std::printf("operator hand under 2 N: displaced %.3f mm (force / stiffness: 5.000 mm)\n",
+              1e3 * (last.z() - target.z()));
+  EXPECT_NEAR(last.z(), target.z() + 2.0 / 400.0, 2e-4);
+  EXPECT_NEAR((last.head<2>() - target.head<2>()).norm(), 0.0, 1e-6);
+  // Once the force stops (timeout), the hand returns to the target.
+  ASSERT_TRUE(waitFor([&] { return (last - target).norm() < 1e-5; }, 3.0));
 }
 
 const std::vector<std::string> kNames = {"yaw", "pitch", "roll", "insertion", "jaw"};

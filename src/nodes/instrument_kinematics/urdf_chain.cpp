@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <sstream>
 
 namespace tt::nodes {
 namespace {
@@ -41,7 +42,9 @@ kin::JointSpec convert(const urdf::Joint& j) {
 
 [[noreturn]] void badParam(const std::string& name, const std::string& expected,
                            XmlRpc::XmlRpcValue& value) {
-  throw std::runtime_error("~" + name + ": expected " + expected + ", got '" + value.toXml() + "'");
+  std::ostringstream text;
+  value.write(text);
+  throw std::runtime_error("~" + name + ": expected " + expected + ", got '" + text.str() + "'");
 }
 
 std::string shortNumber(double x) {
