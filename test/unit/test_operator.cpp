@@ -230,6 +230,11 @@ TEST(ShippedTasks, LiverPalpationPressesAboutOneCentimetreIntoTheLiver) {
 TEST(ShippedTasks, MuscleGraspClosesTheJawOnTheBellySurface) {
   const TaskScript task = TaskScript::load(kTasks + "muscle_grasp.yaml");
   const double belly = 0.04, radius = 0.015, jawLength = 0.018;
+  const kin::Chain chain = kin::test::grasperChain();
+  kin::IkOptions ik;
+  ik.variables = kin::trocarPositionVariables(chain);
+  for (const Keyframe& k : task.keyframes())
+    EXPECT_TRUE(kin::solveTipPosition(chain, k.tip, Eigen::VectorXd::Zero(5), ik).reached()) << k.time;
   const Keyframe* grasp = task.find("grasp");
   ASSERT_NE(grasp, nullptr);
   EXPECT_EQ(grasp->jaw, 0.0);
