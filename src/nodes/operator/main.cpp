@@ -1,0 +1,220 @@
+// operator: the scripted trainee. A 1 kHz loop (absolute deadlines on CLOCK_MONOTONIC) plays
+// the task script (~task) through a virtual hand that the device force (/device/servo_cf)
+// pushes, solves the trocar IK for the hand position and publishes what a haptic device
+// would: /device/measured_js, /device/measured_cp and the deadman /device/enable.
+#include <geometry_msgs/PoseStamped.h>
+#include <geometry_msgs/WrenchStamped.h>
+#include <ros/ros.h>
+#include <sensor_msgs/JointState.h>
+#include <std_msgs/Bool.h>
+#include <time.h>
+
+#include <cerrno>
+#include <cmath>
+
+#include "eigen_msgs.h"
+#include "tissue_trainer/core/haptics/loop_stats.h"
+#include "tissue_trainer/core/kinematics/tip_ik.h"
+#include "tissue_trainer/core/operator/task_script.h"
+#include "tissue_trainer/core/operator/virtual_hand.h"
+#include "urdf_chain.h"
+
+namespace tt::nodes {
+namespace {
+
+double monotonicNow() {
+  timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+void addNanoseconds(timespec& t, long ns) {
+  t.tv_nsec += ns;
+  while (t.tv_nsec >= 1000000000L) {
+    t.tv_nsec -= 1000000000L;
+    ++t.tv_sec;
+  }
+}
+
+struct Settings {
+  std::string task;
+  double rate, startDelay, forceTimeout, roll;
+  bool shutdownAtEnd;
+  HandGains gains;
+};
+
+Settings readSettings(const ros::NodeHandle& pn) {
+  Settings s;
+  s.task = requiredStringParam(pn, "task");
+  s.rate = numberParam(pn, "rate", 1000.0, 1.0, 10000.0);
+  s.startDelay = numberParam(pn, "start_delay", 1.0, 0.0, 3600.0);
+  s.forceTimeout = numberParam(pn, "force_timeout", 0.05, 0.0, 10.0);
+  s.roll = numberParam(pn, "roll", 0.0, -M_PI, M_PI);
+  const std::string end = stringParam(pn, "on_end", "hold");
+  if (end != "hold" && end != "shutdown")
+    throw std::runtime_error("~on_end: expected 'hold' or 'shutdown', got '" + end + "'");
+  s.shutdownAtEnd = end == "shutdown";
+  s.gains.mass = numberParam(pn, "hand_mass", s.gains.mass, 1e-4, 100.0);
+  s.gains.stiffness = numberParam(pn, "hand_stiffness", s.gains.stiffness, 1e-3, 1e7);
+  s.gains.damping = numberParam(pn, "hand_damping", s.gains.damping, 0.0, 1e6);
+  return s;
+}
+
+class Operator {
+ public:
+  Operator(ros::NodeHandle& nh, ros::NodeHandle& pn)
+      : settings_(readSettings(pn)),
+        task_(TaskScript::load(settings_.task)),
+        chain_(chainFromParameter(nh, stringParam(pn, "description_param", "/robot_description"),
+                                  stringParam(pn, "tip_link", "instrument_tip"))),
+        hand_(settings_.gains, task_.sample(0.0).tip),
+        stats_(4096, 2.0 / settings_.rate) {
+    ik_.variables = trocarPositionVariables(chain_);
+    roll_ = chain_.variableIndex("roll");
+    jaw_ = chain_.variableIndex("jaw");
+    q_ = chain_.clamp(Eigen::VectorXd::Zero(chain_.numVariables()));
+    if (roll_ >= 0) q_[roll_] = settings_.roll;
+    // Start from the IK of the first keyframe, from a seed pointing down the shaft.
+    const kin::IkResult first = kin::solveTipPosition(chain_, hand_.position(), q_, ik_);
+    if (!first.reached())
+      ROS_WARN("operator: the first keyframe is %.4f m out of the instrument's reach", first.error);
+    q_ = first.q;
+    js_.name.clear();
+    for (const auto& v : chain_.variables()) js_.name.push_back(v.name);
+    js_.position.resize(js_.name.size());
+    js_.velocity.resize(js_.name.size());
+    cp_.header.frame_id = chain_.links()[0];
+    jsPub_ = nh.advertise<sensor_msgs::JointState>("device/measured_js", 10);
+    cpPub_ = nh.advertise<geometry_msgs::PoseStamped>("device/measured_cp", 10);
+    enablePub_ = nh.advertise<std_msgs::Bool>("device/enable", 1, true);
+    forceSub_ = nh.subscribe("device/servo_cf", 10, &Operator::onForce, this,
+                             ros::TransportHints().tcpNoDelay());
+    ROS_INFO("operator: task '%s' (%zu keyframes, %.2f s) at %.0f Hz after %.2f s; at the end: %s",
+             task_.name().c_str(), task_.keyframes().size(), task_.duration(), settings_.rate,
+             settings_.startDelay, settings_.shutdownAtEnd ? "shutdown" : "hold");
+  }
+
+  void run() {
+    const double dt = 1.0 / settings_.rate;
+    const long periodNs = std::lround(1e9 * dt);
+    const long enableEvery = std::max(1L, std::lround(settings_.rate / 100.0));  // ~100 Hz
+    timespec next;
+    clock_gettime(CLOCK_MONOTONIC, &next);
+    const double start = monotonicNow();
+    std::string phase;
+    for (long tick = 0; ros::ok(); ++tick) {
+      ros::spinOnce();
+      const double now = monotonicNow();
+      stats_.record(now);
+      const double t = tick * dt - settings_.startDelay;
+      const TaskSample target = task_.sample(t);
+      const bool running = t >= 0.0 && !target.finished;
+      const Eigen::Vector3d force =
+          running && now - forceTime_ <= settings_.forceTimeout ? force_ : Eigen::Vector3d::Zero();
+      hand_.step(target.tip, target.tipVelocity, force, dt);
+      step(target.jaw, dt);
+      if (running && *target.phase != phase) {
+        phase = *target.phase;
+        ROS_INFO("operator: t = %.2f s, phase %s", t, phase.c_str());
+      }
+      if (running != enabled_ || tick % enableEvery == 0) {
+        enabled_ = running;
+        std_msgs::Bool msg;
+        msg.data = running;
+        enablePub_.publish(msg);
+      }
+      if (target.finished && !reportedEnd_) {
+        reportedEnd_ = true;
+        report(now - start);
+        if (settings_.shutdownAtEnd) {
+          ros::Duration(0.2).sleep();  // let the last messages (enable false) go out
+          ros::requestShutdown();
+          break;
+        }
+      }
+      addNanoseconds(next, periodNs);
+      if (monotonicNow() - (next.tv_sec + 1e-9 * next.tv_nsec) > 0.1) {
+        clock_gettime(CLOCK_MONOTONIC, &next);  // more than 100 periods late: restart the clock
+        ++resyncs_;
+      }
+      while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next, nullptr) == EINTR) {
+      }
+    }
+  }
+
+ private:
+  void onForce(const geometry_msgs::WrenchStamped& msg) {
+    const Eigen::Vector3d f(msg.wrench.force.x, msg.wrench.force.y, msg.wrench.force.z);
+    if (!f.allFinite()) {
+      ++badForces_;
+      ROS_WARN_THROTTLE(2.0, "operator: %lu non-finite forces on /device/servo_cf ignored", badForces_);
+      return;
+    }
+    force_ = f;
+    forceTime_ = monotonicNow();
+  }
+
+  // IK of the hand position, then publish the device's joints and tip pose.
+  void step(double jaw, double dt) {
+    const Eigen::VectorXd previous = q_;
+    const kin::IkResult ik = kin::solveTipPosition(chain_, hand_.position(), q_, ik_);
+    q_ = ik.q;
+    if (jaw_ >= 0) q_[jaw_] = std::min(std::max(jaw, chain_.variables()[jaw_].lower), chain_.variables()[jaw_].upper);
+    if (!ik.reached()) {
+      ++unreachable_;
+      ROS_WARN_THROTTLE(2.0, "operator: hand %.4f m out of reach (%lu ticks so far)", ik.error, unreachable_);
+    }
+    const ros::Time stamp = ros::Time::now();
+    js_.header.stamp = stamp;
+    for (int i = 0; i < chain_.numVariables(); ++i) {
+      js_.position[i] = q_[i];
+      js_.velocity[i] = (q_[i] - previous[i]) / dt;
+    }
+    jsPub_.publish(js_);
+    cp_.header.stamp = stamp;
+    cp_.pose = poseMsg(chain_.tipPose(q_));
+    cpPub_.publish(cp_);
+  }
+
+  void report(double elapsed) const {
+    const LoopStats s = stats_.summary();
+    ROS_INFO("operator: task '%s' done after %.2f s; loop over the last %zu ticks: %.1f Hz, period "
+             "p50 %.3f ms, p99 %.3f ms, max %.3f ms; %lu overruns (> 2 periods), %lu resyncs, "
+             "%lu unreachable ticks",
+             task_.name().c_str(), elapsed, s.ticks, s.rate, 1e3 * s.periodP50, 1e3 * s.periodP99,
+             1e3 * s.periodMax, static_cast<unsigned long>(stats_.totalOverruns()), resyncs_, unreachable_);
+  }
+
+  Settings settings_;
+  TaskScript task_;
+  kin::Chain chain_;
+  VirtualHand hand_;
+  LoopStatsWindow stats_;
+  kin::IkOptions ik_;
+  Eigen::VectorXd q_;
+  int roll_ = -1, jaw_ = -1;
+  Eigen::Vector3d force_ = Eigen::Vector3d::Zero();
+  double forceTime_ = -1e9;
+  bool enabled_ = false, reportedEnd_ = false;
+  unsigned long badForces_ = 0, unreachable_ = 0, resyncs_ = 0;
+  sensor_msgs::JointState js_;
+  geometry_msgs::PoseStamped cp_;
+  ros::Publisher jsPub_, cpPub_, enablePub_;
+  ros::Subscriber forceSub_;
+};
+
+}  // namespace
+}  // namespace tt::nodes
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "operator");
+  ros::NodeHandle nh, pn("~");
+  try {
+    tt::nodes::Operator node(nh, pn);
+    node.run();
+  } catch (const std::exception& e) {
+    ROS_FATAL("operator: %s", e.what());
+    return 2;
+  }
+  return 0;
+}
