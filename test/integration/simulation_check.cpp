@@ -196,7 +196,7 @@ TEST(Simulation, PalpationLoadSceneAndReset) {
 
   // Surface, marker and diagnostics.
   EXPECT_FALSE(probe.badSurface);
-  EXPECT_EQ(probe.surfacesWithTriangles, 1);
+  EXPECT_GE(probe.surfacesWithTriangles, 1);  // sent to a new subscriber
   EXPECT_GT(probe.lastTriangles, 100u);
   EXPECT_GT(probe.surfaces, 100);
   EXPECT_GT(probe.markers, 0);

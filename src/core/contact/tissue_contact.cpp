@@ -28,6 +28,9 @@ btTransform toBullet(const Eigen::Isometry3d& pose) {
 
 bool finitePose(const Eigen::Isometry3d& pose) { return pose.matrix().allFinite(); }
 
+// Bullet's normal within about 1 degree of the triangle's: a face contact.
+constexpr double kFaceCosine = 0.99985;
+
 // Margins in Bullet units (kBulletScale per metre): 0.05 mm on the tool, none on the tissue.
 constexpr btScalar kToolMargin = 0.005f;
 
@@ -286,30 +289,53 @@ const ContactResult& TissueContact::update() {
     b.world.contactPairTest(b.toolObjects[k].get(), &b.tissue, collector);
   }
 
-  // Several triangles around one vertex or edge report the same point: keep the deepest.
-  std::sort(found.begin(), found.end(),
-            [](const ContactPoint& a, const ContactPoint& c) { return a.depth > c.depth; });
-  const double mergeDistance = 1e-4;  // m
+  // Classify: a face contact has Bullet's normal along the triangle's outward normal; an
+  // edge or vertex contact does not. When a shape has a face contact, its edge contacts are
+  // the coplanar (or nearly so) neighbours of that face seeing the same tool from their edges:
+  // dropped, so that a flat surface gives one contact with the face normal. Points whose
+  // normal faces into the tissue (a triangle touched from behind) are dropped too, and
+  // several triangles around one vertex or edge reporting the same point count once.
   const auto& surface = system_.mesh.surface;
-  for (const ContactPoint& p : found) {
+  struct Candidate {
+    ContactPoint point;
+    bool face = false;
+  };
+  std::vector<Candidate> candidates;
+  std::vector<char> shapeHasFace(shapes_.size(), 0);
+  for (ContactPoint& p : found) {
     if (p.triangle < 0 || p.triangle >= static_cast<int>(surface.size())) continue;
-    const bool duplicate = std::any_of(result_.points.begin(), result_.points.end(), [&](const ContactPoint& q) {
-      return q.shape == p.shape && (q.tissuePoint - p.tissuePoint).norm() < mergeDistance;
+    const Triangle& t = surface[p.triangle];
+    const Eigen::Vector3d a = x.segment<3>(3 * t[0]), bb = x.segment<3>(3 * t[1]),
+                          c = x.segment<3>(3 * t[2]);
+    const Eigen::Vector3d outward = (bb - a).cross(c - a).normalized();
+    p.normal.normalize();
+    const double cosine = p.normal.dot(outward);
+    if (!(cosine > 0.0) || !p.normal.allFinite() || !outward.allFinite()) continue;
+    Candidate candidate{p, cosine > kFaceCosine};
+    if (candidate.face) {
+      candidate.point.normal = outward;
+      shapeHasFace[p.shape] = 1;
+    }
+    candidates.push_back(candidate);
+  }
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& c) {
+    return a.point.depth > c.point.depth;
+  });
+  const double mergeDistance = 1e-4;  // m
+  for (const Candidate& candidate : candidates) {
+    const ContactPoint& q = candidate.point;
+    if (!candidate.face && shapeHasFace[q.shape]) continue;
+    const bool duplicate = std::any_of(result_.points.begin(), result_.points.end(), [&](const ContactPoint& r) {
+      return r.shape == q.shape && (r.tissuePoint - q.tissuePoint).norm() < mergeDistance;
     });
     if (duplicate) continue;
-    const Triangle& t = surface[p.triangle];
+    const Triangle& t = surface[q.triangle];
     if (std::any_of(t.begin(), t.end(), [&](int a) {
           return std::find(graspNodes_.begin(), graspNodes_.end(), a) != graspNodes_.end();
         }))
       continue;
     const Eigen::Vector3d a = x.segment<3>(3 * t[0]), bb = x.segment<3>(3 * t[1]),
                           c = x.segment<3>(3 * t[2]);
-    const Eigen::Vector3d outward = (bb - a).cross(c - a).normalized();
-    ContactPoint q = p;
-    q.normal.normalize();
-    // A normal pointing into the tissue comes from a triangle touched from behind (the side
-    // face below an edge the tool presses on): the triangle in front reports that contact.
-    if (!(q.normal.dot(outward) > 0.0) || !q.normal.allFinite()) continue;
     PenaltyContact pc;
     pc.nodes = {t[0], t[1], t[2]};
     pc.weights = triangleWeights(a, bb, c, q.tissuePoint);

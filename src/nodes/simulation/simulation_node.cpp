@@ -67,7 +67,9 @@ bool SimulationNode::start() {
   }
 
   contactPub_ = nh_.advertise<tissue_trainer::ContactModel>("tissue/contact", 10);
-  surfacePub_ = nh_.advertise<tissue_trainer::TissueSurface>("tissue/surface", 2);
+  // A new subscriber gets the triangles with the next message.
+  surfacePub_ = nh_.advertise<tissue_trainer::TissueSurface>(
+      "tissue/surface", 2, [this](const ros::SingleSubscriberPublisher&) { trianglesChanged_ = true; });
   markerPub_ = nh_.advertise<visualization_msgs::Marker>("tissue/surface_marker", 1, true);
   statusPub_ = nh_.advertise<tissue_trainer::TissueStatus>("tissue/status", 10);
   diagnosticsPub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("diagnostics", 10);
