@@ -38,6 +38,7 @@ struct Probe {
   int contacts = 0, statuses = 0, surfaces = 0, surfacesWithTriangles = 0, markers = 0,
       diagnostics = 0, nonFinite = 0, unstable = 0;
   size_t lastTriangles = 0, lastVertices = 0;
+  double jawAngle = 0.0;  // published with every tip pose
   bool badSurface = false;
   std::vector<ros::Subscriber> subs;
 
@@ -114,7 +115,7 @@ struct Probe {
     sensor_msgs::JointState j;
     j.header.stamp = t.header.stamp;
     j.name = {"jaw"};
-    j.position = {0.0};
+    j.position = {jawAngle};
     jaw.publish(j);
   }
 
@@ -227,6 +228,37 @@ TEST(Simulation, PalpationLoadSceneAndReset) {
   EXPECT_LT(probe.status.simulation_time, 0.5);
   EXPECT_LT(probe.status.simulation_time, timeBefore);
   EXPECT_FALSE(probe.contact.in_contact);
+
+  // The muscle scene: load it, press the jaws 5 mm into its belly from above, close them and
+  // pull up 1 cm: the grasped tissue pulls the tool back down (-z).
+  std::string muscle;
+  ASSERT_TRUE(ros::param::get("~muscle_scene", muscle));
+  load.request.scene_file = muscle;
+  ASSERT_TRUE(ros::service::call("simulation/load_scene", load));
+  ASSERT_TRUE(load.response.success) << load.response.message;
+  const int trianglesBefore = probe.surfacesWithTriangles;
+  double zMuscle = above;
+  probe.jawAngle = 0.6;
+  ASSERT_TRUE(probe.run(4.0, [&](double t) { return zMuscle = above - 0.02 * t; },
+                        [&] { return bool(probe.contact.in_contact); }))
+      << "no contact with the muscle";
+  EXPECT_GT(probe.surfacesWithTriangles, trianglesBefore);  // the new scene's triangles
+  probe.run(0.5, [&](double t) { return zMuscle - 0.01 * t; });
+  probe.jawAngle = 0.0;
+  probe.run(0.3, [&](double) { return zMuscle - 0.005; });
+  probe.run(1.0, [&](double t) { return zMuscle - 0.005 + 0.01 * t; });
+  probe.run(0.5, [&](double) { return zMuscle + 0.005; });
+  ROS_INFO("grasp, pulled 1 cm: f0 = (%.4f, %.4f, %.4f) N, in contact %d, K zz %.1f N/m, "
+           "real-time factor %.3f, step %.2f ms, max strain %.3f",
+           probe.contact.force.x, probe.contact.force.y, probe.contact.force.z,
+           int(probe.contact.in_contact), probe.contact.stiffness[8],
+           probe.status.real_time_factor, 1e3 * probe.status.step_wall_time, probe.status.max_strain);
+  EXPECT_GT(probe.status.real_time_factor, 0.5);
+  EXPECT_TRUE(probe.contact.in_contact);
+  EXPECT_LT(probe.contact.force.z, -0.01);
+  probe.jawAngle = 0.6;
+  probe.run(1.0, [&](double) { return above; });
+  EXPECT_FALSE(probe.contact.in_contact);  // released, the tool out of the tissue
   EXPECT_EQ(probe.nonFinite, 0);
   EXPECT_EQ(probe.unstable, 0);
 }

@@ -225,21 +225,26 @@ Eigen::Vector3d TissueContact::graspCentre() const {
   return count ? Eigen::Vector3d(sum / count) : Eigen::Vector3d(tip_.translation());
 }
 
-void TissueContact::updateGrasp(bool jawClosed) {
+void TissueContact::updateGrasp(bool jawClosed, const std::vector<ContactPoint>& previous) {
   if (!jawClosed) {
     graspNodes_.clear();
     graspOffsets_.clear();
   } else if (!jawClosed_) {
-    // The jaw has just closed: take the nearest free nodes within the grasp radius.
+    // The jaw has just closed: take the free nodes within the grasp radius of the jaw centre
+    // and those of the triangles the jaws touched in the last query, nearest first.
     const Eigen::Vector3d centre = graspCentre();
-    std::vector<std::pair<double, int>> near;
     const Eigen::VectorXd& x = system_.state.x;
+    std::vector<char> touched(system_.numNodes(), 0);
+    for (const ContactPoint& p : previous)
+      if (shapes_[p.shape].jaw)
+        for (int a : system_.mesh.surface[p.triangle]) touched[a] = 1;
+    std::vector<std::pair<double, int>> near;
     for (int a = 0; a < system_.numNodes(); ++a) {
       if (system_.isConstrained[3 * a] || system_.isConstrained[3 * a + 1] ||
           system_.isConstrained[3 * a + 2])
         continue;
       const double d = (x.segment<3>(3 * a) - centre).norm();
-      if (d <= settings_.graspRadius) near.emplace_back(d, a);
+      if (d <= settings_.graspRadius || touched[a]) near.emplace_back(d, a);
     }
     std::sort(near.begin(), near.end());
     if (static_cast<int>(near.size()) > settings_.graspMaxNodes) near.resize(settings_.graspMaxNodes);
@@ -257,6 +262,7 @@ void TissueContact::updateGrasp(bool jawClosed) {
 const ContactResult& TissueContact::update() {
   model_->penalties.clear();
   model_->springs.clear();
+  const std::vector<ContactPoint> previous = std::move(result_.points);
   result_ = ContactResult{};
   const Eigen::VectorXd& x = system_.state.x;
   if (!haveTool_ || !bullet_->setPositions(x)) {
@@ -276,7 +282,7 @@ const ContactResult& TissueContact::update() {
   lastTime_ = toolTime_;
   haveLast_ = true;
 
-  updateGrasp(jawAngle_ < settings_.graspJawAngle);
+  updateGrasp(jawAngle_ < settings_.graspJawAngle, previous);
 
   Bullet& b = *bullet_;
   std::vector<ContactPoint> found;

@@ -11,9 +11,14 @@
 //
 // Grasp: when the jaw angle drops below ContactSettings::graspJawAngle (an open -> closed
 // transition), the free nodes within graspRadius of the jaw centre (the mean of the jaw shapes'
-// centres, or the tip when no shape is a jaw) are tied to the tip by springs of
+// centres, or the tip when no shape is a jaw) and the nodes of the triangles the jaw shapes
+// touched in the previous query (nearest first, at most graspMaxNodes) are tied to the tip by
+// springs of
 // graspStiffness, their anchors moving rigidly with the tip, until the jaw opens again.
 // Penalty contacts on triangles with a grasped node are skipped (the springs hold them).
+// Contact points: a face contact (Bullet's normal along the triangle's) outranks the edge
+// contacts of the same shape (the neighbours of that face); normals facing into the tissue
+// are dropped; points reported by several triangles count once.
 //
 // Bullet works internally in centimetres (kBulletScale): its GJK/EPA tolerances suit objects
 // of about 0.05 to 10 units, millimetre jaws in metres do not.
@@ -83,7 +88,7 @@ class TissueContact {
 
  private:
   struct Bullet;
-  void updateGrasp(bool jawClosed);
+  void updateGrasp(bool jawClosed, const std::vector<ContactPoint>& previous);
   Eigen::Vector3d graspCentre() const;
 
   System& system_;
