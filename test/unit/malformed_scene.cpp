@@ -89,6 +89,19 @@ TEST(MalformedScene, EachErrorNamesFileLineAndKey) {
       {"invalid YAML", edited("name: block", "name: [block"), 0, "not valid YAML"},
       {"empty file", "", 0, "expected a map"},
       {"binary garbage", std::string("\x01\x02\xff\xfe{{[[\x00\x7f", 10), 0, ""},
+      {"tendon wider than the belly", edited("generator: box\n  nodes: [3, 3, 3]\n  size: [0.02, 0.02, 0.02]", "generator: spindle\n  max_radius: 0.01\n  tendon_radius: 0.02"), 5, "tendon_radius < max_radius"},
+      {"two spindle segments", edited("generator: box\n  nodes: [3, 3, 3]\n  size: [0.02, 0.02, 0.02]", "generator: spindle\n  segments: 2"), 4, "mesh.segments"},
+      {"translate of two numbers", edited("size: [0.02, 0.02, 0.02]", "size: [0.02, 0.02, 0.02]\n  translate: [1, 2]"), 6, "mesh.translate"},
+      {"rotate_deg not numbers", edited("size: [0.02, 0.02, 0.02]", "size: [0.02, 0.02, 0.02]\n  rotate_deg: [a, 0, 0]"), 6, "mesh.rotate_deg"},
+      {"unknown contact key", edited("run:", "contact: {stiffnes: 100}\nrun:"), 21, "contact.stiffnes"},
+      {"negative contact stiffness", edited("run:", "contact: {stiffness: -100}\nrun:"), 21, "contact.stiffness: expected a positive number"},
+      {"negative contact damping", edited("run:", "contact: {damping: -1}\nrun:"), 21, "contact.damping"},
+      {"grasp angle out of range", edited("run:", "contact: {grasp_jaw_angle: 4}\nrun:"), 21, "[0, pi]"},
+      {"zero grasp nodes", edited("run:", "contact: {grasp_max_nodes: 0}\nrun:"), 21, "contact.grasp_max_nodes"},
+      {"contact not a map", edited("run:", "contact: 100\nrun:"), 21, "contact"},
+      {"missing render surface", edited("run:", "render_surface: {file: none.obj}\nrun:"), 21, "not found"},
+      {"render surface without file", edited("run:", "render_surface: {outside: clamp}\nrun:"), 21, "missing required key 'file'"},
+      {"bad outside policy", edited("run:", "render_surface: {file: none.obj, outside: snap}\nrun:"), 21, "render_surface"},
   };
   for (const BadScene& c : cases) {
     const std::string path = writeScene("bad.yaml", c.text);

@@ -1,6 +1,8 @@
 #include "tissue_trainer/core/scene/scene.h"
 
 #include <Eigen/Dense>
+#include <Eigen/Geometry>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -36,7 +38,7 @@ TetSplit parseSplit(const YamlEntry& e) {
 Mesh generateMesh(const YamlEntry& spec) {
   const std::string type = spec["generator"].choice({"box", "cantilever", "spindle"});
   if (type == "box") {
-    spec.expectMap({"generator", "nodes", "size", "split", "length_unit", "scale"});
+    spec.expectMap({"generator", "nodes", "size", "split", "length_unit", "scale", "translate", "rotate_deg"});
     const YamlEntry nodes = spec["nodes"];
     if (nodes.size() != 3) nodes.fail("expected 3 node counts [nx, ny, nz]");
     const Eigen::Vector3d size = spec["size"].vector3();
@@ -47,20 +49,60 @@ Mesh generateMesh(const YamlEntry& spec) {
   }
   if (type == "cantilever") {
     spec.expectMap({"generator", "length", "width", "cells_along", "cells_across", "split",
-                    "length_unit", "scale"});
+                    "length_unit", "scale", "translate", "rotate_deg"});
     return cantileverBeam(spec["length"].positive(), spec["width"].positive(),
                           spec.integerAtLeast("cells_along", 1, 10),
                           spec.integerAtLeast("cells_across", 1, 2),
                           spec.has("split") ? parseSplit(spec["split"]) : TetSplit::kSixMirrored);
   }
-  spec.expectMap({"generator", "length", "max_radius", "length_unit", "scale"});
-  return spindleMuscle(spec.positive("length", 0.1), spec.positive("max_radius", 0.015));
+  spec.expectMap({"generator", "length", "max_radius", "tendon_radius", "segments", "layers",
+                  "length_unit", "scale", "translate", "rotate_deg"});
+  SpindleShape shape;
+  shape.length = spec.positive("length", shape.length);
+  shape.maxRadius = spec.positive("max_radius", shape.maxRadius);
+  shape.tendonRadius = spec.positive("tendon_radius", shape.tendonRadius);
+  if (shape.tendonRadius >= shape.maxRadius)
+    spec[spec.has("tendon_radius") ? "tendon_radius" : "max_radius"].fail(
+        "expected tendon_radius < max_radius");
+  shape.segments = spec.integerAtLeast("segments", 3, shape.segments);
+  shape.layers = spec.integerAtLeast("layers", 2, shape.layers);
+  return spindleMuscle(shape);
 }
 
-Mesh loadMesh(const YamlEntry& spec, const fs::path& sceneDir, std::vector<std::string>& notes) {
+// Where the mesh's file coordinates go: x_world = R (scale x) + t, with
+// R = Rz(rz) Ry(ry) Rx(rx) from mesh.rotate_deg (degrees, about the world axes, x first) and
+// t = mesh.translate (m), both applied after length_unit and scale.
+struct Placement {
+  double scale = 1.0;
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+
+  void apply(Eigen::Matrix3Xd& points) const {
+    points = (rotation * (scale * points)).colwise() + translation;
+  }
+};
+
+Placement readPlacement(const YamlEntry& spec) {
+  Placement p;
+  if (spec.has("length_unit")) p.scale = lengthUnit(spec["length_unit"]);
+  if (spec.has("scale")) p.scale *= spec["scale"].positive();
+  if (spec.has("translate")) p.translation = spec["translate"].vector3();
+  if (spec.has("rotate_deg")) {
+    const Eigen::Vector3d deg = spec["rotate_deg"].vector3();
+    const Eigen::Vector3d rad = deg * (M_PI / 180.0);
+    p.rotation = (Eigen::AngleAxisd(rad.z(), Eigen::Vector3d::UnitZ()) *
+                  Eigen::AngleAxisd(rad.y(), Eigen::Vector3d::UnitY()) *
+                  Eigen::AngleAxisd(rad.x(), Eigen::Vector3d::UnitX()))
+                     .toRotationMatrix();
+  }
+  return p;
+}
+
+Mesh loadMesh(const YamlEntry& spec, const fs::path& sceneDir, std::vector<std::string>& notes,
+              Placement& placement) {
   Mesh mesh;
   if (spec.has("file")) {
-    spec.expectMap({"file", "length_unit", "scale"});
+    spec.expectMap({"file", "length_unit", "scale", "translate", "rotate_deg"});
     const YamlEntry fileEntry = spec["file"];
     fs::path file = fileEntry.text();
     if (file.is_relative()) file = sceneDir / file;
@@ -73,11 +115,63 @@ Mesh loadMesh(const YamlEntry& spec, const fs::path& sceneDir, std::vector<std::
   } else {
     spec.fail("expected 'file' or 'generator'");
   }
-  double scale = spec.has("length_unit") ? lengthUnit(spec["length_unit"]) : 1.0;
-  if (spec.has("scale")) scale *= spec["scale"].positive();
-  mesh.rest *= scale;
+  placement = readPlacement(spec);
+  placement.apply(mesh.rest);
+  // A rotation turns the fibre frames with the mesh (orientation and volumes are kept).
+  for (Eigen::Matrix3d& frame : mesh.fibreFrame) frame = placement.rotation * frame;
   if (mesh.numTets() == 0) spec.fail("the mesh has no tetrahedra");
   return mesh;
+}
+
+// render_surface: {file: OBJ, outside: clamp | extrapolate}; the OBJ is in the mesh file's
+// coordinates and gets the mesh's placement.
+RenderSurface loadRenderSurface(const YamlEntry& spec, const fs::path& sceneDir,
+                                const Placement& placement, const Mesh& mesh,
+                                std::vector<std::string>& notes) {
+  spec.expectMap({"file", "outside"});
+  OutsidePolicy policy = OutsidePolicy::kExtrapolate;
+  if (spec.has("outside") && spec["outside"].choice({"clamp", "extrapolate"}) == "clamp")
+    policy = OutsidePolicy::kClamp;
+  const YamlEntry fileEntry = spec["file"];
+  fs::path file = fileEntry.text();
+  if (file.is_relative()) file = sceneDir / file;
+  if (!fs::is_regular_file(file)) fileEntry.fail("surface file '" + file.string() + "' not found");
+  SurfaceMesh surface = readObj(file.string());
+  if (surface.triangles.empty()) fileEntry.fail("the surface has no triangles");
+  placement.apply(surface.vertices);
+  RenderSurface render;
+  render.file = file.string();
+  render.rest = surface.vertices;
+  render.triangles = std::move(surface.triangles);
+  render.embedding = Embedding(mesh, render.rest, policy);
+  notes.push_back("render surface " + file.filename().string() + ": " +
+                  std::to_string(render.embedding.numPoints()) + " vertices, " +
+                  std::to_string(render.embedding.numOutside()) + " outside the mesh (up to " +
+                  std::to_string(render.embedding.maxOutsideDistance()) + " m)");
+  return render;
+}
+
+// contact: {stiffness, damping, grasp_stiffness, grasp_jaw_angle, grasp_radius,
+// grasp_max_nodes}; every key optional (defaults in ContactSettings).
+ContactSettings readContact(const YamlEntry& spec) {
+  if (spec.node().IsNull()) return {};
+  spec.expectMap({"stiffness", "damping", "grasp_stiffness", "grasp_jaw_angle", "grasp_radius",
+                  "grasp_max_nodes"});
+  ContactSettings c;
+  c.stiffness = spec.positive("stiffness", c.stiffness);
+  if (spec.has("damping")) {
+    c.damping = spec["damping"].number();
+    if (c.damping < 0.0) spec["damping"].fail("expected a non-negative damping (N s/m)");
+  }
+  c.graspStiffness = spec.positive("grasp_stiffness", c.graspStiffness);
+  if (spec.has("grasp_jaw_angle")) {
+    c.graspJawAngle = spec["grasp_jaw_angle"].number();
+    if (c.graspJawAngle < 0.0 || c.graspJawAngle > M_PI)
+      spec["grasp_jaw_angle"].fail("expected an angle in [0, pi] (rad)");
+  }
+  c.graspRadius = spec.positive("grasp_radius", c.graspRadius);
+  c.graspMaxNodes = spec.integerAtLeast("grasp_max_nodes", 1, c.graspMaxNodes);
+  return c;
 }
 
 // The nodes a selection names: {box: {min, max}}, {plane: {point, normal, tolerance}},
@@ -287,10 +381,12 @@ Scene loadScene(const std::string& path) {
   scene.file = path;
   const YamlEntry top(root, "", &scene.file);
   top.expectMap({"name", "mesh", "materials", "fibres", "force_models", "integrator",
-                 "boundary", "loads", "run", "output"});
+                 "boundary", "loads", "run", "output", "contact", "render_surface"});
   scene.name = top.has("name") ? top["name"].text() : fs::path(path).stem().string();
 
-  Mesh mesh = loadMesh(top["mesh"], fs::path(path).parent_path(), scene.notes);
+  const fs::path sceneDir = fs::path(path).parent_path();
+  Placement placement;
+  Mesh mesh = loadMesh(top["mesh"], sceneDir, scene.notes, placement);
   if (top.has("fibres")) applyFibres(top["fibres"], mesh);
   std::vector<Material> materials = assignMaterials(top["materials"], mesh);
   scene.system = System(std::move(mesh), std::move(materials));
@@ -327,6 +423,10 @@ Scene loadScene(const std::string& path) {
     scene.output.vtuEvery = out.integerAtLeast("vtu_every", 0, 0);
     scene.output.csv = out.boolean("csv", false);
   }
+  if (top.has("contact")) scene.contact = readContact(top["contact"]);
+  if (top.has("render_surface"))
+    scene.renderSurface = loadRenderSurface(top["render_surface"], sceneDir, placement,
+                                            system.mesh, scene.notes);
   return scene;
 }
 

@@ -3,10 +3,12 @@
 // integrator, boundary conditions, loads, run length and outputs. loadScene validates it
 // strictly and builds only what it lists. See README "Scene format".
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "tissue_trainer/core/integrate/integrator.h"
+#include "tissue_trainer/core/mesh/embedding.h"
 #include "tissue_trainer/core/system.h"
 
 namespace tt {
@@ -14,6 +16,26 @@ namespace tt {
 struct SceneOutput {
   int vtuEvery = 0;    // write a VTU file every N frames (0: no VTU series)
   bool csv = false;    // write the per-frame CSV log
+};
+
+// Instrument-tissue contact (scene key `contact`), read by the contact library
+// (tissue_trainer_contact). Plain numbers only: the scene knows nothing of Bullet.
+struct ContactSettings {
+  double stiffness = 200.0;        // penalty k_c per contact point (N/m)
+  double damping = 0.0;            // normal damping per contact point (N s/m)
+  double graspStiffness = 100.0;   // spring from each grasped node to the tip (N/m)
+  double graspJawAngle = 0.1;      // jaw opening (rad) below which the jaws grasp
+  double graspRadius = 0.006;      // nodes within this distance of the jaw centre are grasped (m)
+  int graspMaxNodes = 12;          // at most this many (the nearest) nodes per grasp
+};
+
+// A finer triangle surface (scene key `render_surface`) embedded into the tet mesh: its
+// vertices follow the deformed tets through fixed barycentric weights.
+struct RenderSurface {
+  std::string file;
+  Eigen::Matrix3Xd rest;            // rest vertices (m, world)
+  std::vector<Triangle> triangles;
+  Embedding embedding;
 };
 
 struct Scene {
@@ -24,6 +46,8 @@ struct Scene {
   double frameTime = 0.01;  // s, one integrator advance() per frame
   double duration = 1.0;    // s
   SceneOutput output;
+  std::optional<ContactSettings> contact;         // only when the scene lists `contact`
+  std::optional<RenderSurface> renderSurface;     // only when the scene lists `render_surface`
   std::vector<std::string> notes;  // what the loader noticed (ignored elements, repairs)
 };
 

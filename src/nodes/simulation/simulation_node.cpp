@@ -1,0 +1,371 @@
+#include "simulation_node.h"
+
+#include <geometry_msgs/TransformStamped.h>
+#include <visualization_msgs/Marker.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "node_params.h"
+#include "tissue_trainer/ContactModel.h"
+#include "tissue_trainer/TissueStatus.h"
+#include "tissue_trainer/TissueSurface.h"
+#include "tissue_trainer/core/error.h"
+#include "tissue_trainer/core/model/strain.h"
+#include "tissue_trainer/core/scene/scene_runner.h"
+#include "urdf_tool.h"
+
+namespace tt_nodes {
+namespace {
+
+Eigen::Isometry3d toEigen(const geometry_msgs::Transform& t) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z)
+                      .normalized()
+                      .toRotationMatrix();
+  pose.translation() = Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z);
+  return pose;
+}
+
+}  // namespace
+
+SimulationNode::SimulationNode(ros::NodeHandle nh, ros::NodeHandle pnh)
+    : nh_(nh), pnh_(pnh) {}
+
+bool SimulationNode::readParams() {
+  return readString(pnh_, "scene", params_.scene, true) &&
+         readNumber(pnh_, "rate", params_.rate, 0.0, true) &&
+         readInteger(pnh_, "surface_every", params_.surfaceEvery, 1) &&
+         readNumber(pnh_, "marker_rate", params_.markerRate, 0.0, true) &&
+         readNumber(pnh_, "damage_strain", params_.damageStrain, 0.0, true) &&
+         readString(pnh_, "world_frame", params_.worldFrame, false) &&
+         readString(pnh_, "tip_frame", params_.tipFrame, false);
+}
+
+bool SimulationNode::start() {
+  if (!readParams()) return false;
+  try {
+    loadScene(params_.scene);
+  } catch (const std::exception& e) {
+    ROS_FATAL("parameter %s: %s", pnh_.resolveName("scene").c_str(), e.what());
+    return false;
+  }
+  if (nh_.hasParam("robot_description")) {
+    std::string xml;
+    if (!nh_.getParam("robot_description", xml)) {
+      ROS_FATAL("parameter %s: expected the URDF as a string", nh_.resolveName("robot_description").c_str());
+      return false;
+    }
+    try {
+      readRobotDescription();
+    } catch (const std::exception& e) {
+      ROS_FATAL("%s", e.what());
+      return false;
+    }
+  } else {
+    ROS_WARN("no /robot_description yet: no instrument contact until it is set");
+  }
+
+  contactPub_ = nh_.advertise<tissue_trainer::ContactModel>("tissue/contact", 10);
+  // A new subscriber gets the triangles with the next message.
+  surfacePub_ = nh_.advertise<tissue_trainer::TissueSurface>(
+      "tissue/surface", 2, [this](const ros::SingleSubscriberPublisher&) { trianglesChanged_ = true; });
+  markerPub_ = nh_.advertise<visualization_msgs::Marker>("tissue/surface_marker", 1, true);
+  statusPub_ = nh_.advertise<tissue_trainer::TissueStatus>("tissue/status", 10);
+  diagnosticsPub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("diagnostics", 10);
+  jawSub_ = nh_.subscribe("instrument/jaw/measured_js", 10, &SimulationNode::onJaw, this,
+                          ros::TransportHints().tcpNoDelay());
+  resetSrv_ = pnh_.advertiseService("reset", &SimulationNode::onReset, this);
+  loadSrv_ = pnh_.advertiseService("load_scene", &SimulationNode::onLoadScene, this);
+  stepTimer_ = nh_.createSteadyTimer(ros::WallDuration(1.0 / params_.rate), &SimulationNode::step, this);
+  diagnosticsTimer_ = nh_.createSteadyTimer(ros::WallDuration(1.0), &SimulationNode::publishDiagnostics, this);
+  ROS_INFO("simulation: scene '%s' (%d nodes, %d tets, %s), %.0f Hz, %zu tool shapes",
+           scene_.name.c_str(), scene_.system.numNodes(), scene_.system.mesh.numTets(),
+           scene_.contact ? "contact" : "no contact", params_.rate, toolShapes_.size());
+  return true;
+}
+
+void SimulationNode::readRobotDescription() {
+  std::string xml;
+  if (!nh_.getParam("robot_description", xml)) return;
+  std::vector<std::string> skipped;
+  toolShapes_ = toolShapesFromUrdf(xml, &skipped);
+  for (const std::string& s : skipped) ROS_WARN("robot_description: %s", s.c_str());
+  if (toolShapes_.empty()) ROS_WARN("robot_description: no link has collision geometry");
+  haveRobot_ = true;
+  buildContact();
+}
+
+void SimulationNode::buildContact() {
+  contact_.reset();
+  if (scene_.contact && haveRobot_)
+    contact_ = std::make_unique<tt::TissueContact>(scene_.system, *scene_.contact, toolShapes_);
+}
+
+void SimulationNode::loadScene(const std::string& path) {
+  tt::Scene loaded = tt::loadScene(path);  // throws before anything changes
+  contact_.reset();
+  scene_ = std::move(loaded);
+  for (const std::string& note : scene_.notes) ROS_INFO("scene: %s", note.c_str());
+  initialState_ = scene_.system.state;
+  display_ = tt::DisplaySurface(scene_);
+  trianglesChanged_ = true;
+  lastMarker_ = ros::WallTime();
+  buildContact();
+}
+
+bool SimulationNode::readTool(Eigen::Isometry3d& tip, std::vector<Eigen::Isometry3d>& links) {
+  try {
+    tip = toEigen(tfBuffer_.lookupTransform(params_.worldFrame, params_.tipFrame, ros::Time(0)).transform);
+    links.clear();
+    for (const tt::ToolShape& s : toolShapes_)
+      links.push_back(toEigen(tfBuffer_.lookupTransform(params_.worldFrame, s.link, ros::Time(0)).transform));
+  } catch (const tf2::TransformException& e) {
+    toolProblem_ = e.what();
+    return false;
+  }
+  toolProblem_.clear();
+  return true;
+}
+
+void SimulationNode::onJaw(const sensor_msgs::JointState& msg) {
+  for (size_t k = 0; k < msg.name.size() && k < msg.position.size(); ++k)
+    if (msg.name[k] == "jaw") {
+      if (!std::isfinite(msg.position[k])) {
+        ROS_WARN_THROTTLE(1.0, "instrument/jaw/measured_js: non-finite jaw angle ignored");
+        return;
+      }
+      jawAngle_ = msg.position[k];
+      haveJaw_ = true;
+    }
+}
+
+void SimulationNode::step(const ros::SteadyTimerEvent&) {
+  const ros::WallTime wallStart = ros::WallTime::now();
+  const ros::Time stamp = ros::Time::now();
+  tt::System& system = scene_.system;
+
+  tt::ContactResult contact;
+  if (contact_) {
+    Eigen::Isometry3d tip;
+    std::vector<Eigen::Isometry3d> links;
+    if (readTool(tip, links)) {
+      try {
+        contact_->setTool(tip, links, jawAngle_, system.state.t);
+      } catch (const std::invalid_argument& e) {
+        toolProblem_ = e.what();
+        ROS_WARN_THROTTLE(1.0, "rejected tool pose: %s", e.what());
+        contact_->clearTool();
+      }
+    } else {
+      contact_->clearTool();
+    }
+    contact = contact_->update();
+  }
+  lastContact_ = contact;
+  publishContact(contact, stamp);
+
+  const tt::StepReport report = scene_.integrator->advance(system, 1.0 / params_.rate);
+  ++step_;
+  if (!report.ok) {
+    ++failures_;
+    failure_ = report.failure;
+    ROS_ERROR_THROTTLE(1.0, "simulation step failed (state restored): %s", report.failure.c_str());
+  }
+  stable_ = report.ok;
+
+  if (step_ % params_.surfaceEvery == 0) publishSurface(stamp);
+  if ((ros::WallTime::now() - lastMarker_).toSec() >= 1.0 / params_.markerRate) {
+    publishMarker(stamp);
+    lastMarker_ = ros::WallTime::now();
+  }
+  const double stepWall = (ros::WallTime::now() - wallStart).toSec();
+  publishStatus(report, stepWall, stamp);
+}
+
+void SimulationNode::publishContact(const tt::ContactResult& r, const ros::Time& stamp) {
+  tissue_trainer::ContactModel msg;
+  msg.header.stamp = stamp;
+  msg.header.frame_id = params_.worldFrame;
+  msg.sequence = ++contactSeq_;
+  msg.in_contact = r.inContact;
+  msg.tool_position.x = r.x0.x();
+  msg.tool_position.y = r.x0.y();
+  msg.tool_position.z = r.x0.z();
+  msg.force.x = r.f0.x();
+  msg.force.y = r.f0.y();
+  msg.force.z = r.f0.z();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) msg.stiffness[3 * i + j] = r.K(i, j);
+  msg.simulation_time = scene_.system.state.t;
+  contactPub_.publish(msg);
+}
+
+void SimulationNode::publishSurface(const ros::Time& stamp) {
+  Eigen::Matrix3Xd positions;
+  display_.positions(scene_.system.state.x, positions);
+  tissue_trainer::TissueSurface msg;
+  msg.header.stamp = stamp;
+  msg.header.frame_id = params_.worldFrame;
+  msg.sequence = ++surfaceSeq_;
+  msg.positions.assign(positions.data(), positions.data() + positions.size());
+  msg.triangles_changed = trianglesChanged_;
+  if (trianglesChanged_) {
+    for (const tt::Triangle& t : display_.triangles())
+      msg.triangles.insert(msg.triangles.end(), t.begin(), t.end());
+    trianglesChanged_ = false;
+  }
+  surfacePub_.publish(msg);
+}
+
+void SimulationNode::publishMarker(const ros::Time& stamp) {
+  Eigen::Matrix3Xd positions;
+  display_.positions(scene_.system.state.x, positions);
+  visualization_msgs::Marker m;
+  m.header.stamp = stamp;
+  m.header.frame_id = params_.worldFrame;
+  m.ns = "tissue";
+  m.id = 0;
+  m.type = visualization_msgs::Marker::TRIANGLE_LIST;
+  m.action = visualization_msgs::Marker::ADD;
+  m.pose.orientation.w = 1.0;
+  m.scale.x = m.scale.y = m.scale.z = 1.0;
+  m.color.r = 0.8f;
+  m.color.g = 0.35f;
+  m.color.b = 0.3f;
+  m.color.a = 1.0f;
+  m.points.reserve(3 * display_.triangles().size());
+  for (const tt::Triangle& t : display_.triangles())
+    for (int k : t) {
+      geometry_msgs::Point p;
+      p.x = positions(0, k);
+      p.y = positions(1, k);
+      p.z = positions(2, k);
+      m.points.push_back(p);
+    }
+  markerPub_.publish(m);
+}
+
+void SimulationNode::publishStatus(const tt::StepReport& report, double stepWall,
+                                   const ros::Time& stamp) {
+  const tt::System& system = scene_.system;
+  const double wall = ros::WallTime::now().toSec();
+  clock_.emplace_back(wall, system.state.t);
+  while (clock_.size() > 2 && wall - clock_.front().first > 1.0) clock_.pop_front();
+  const double wallSpan = clock_.back().first - clock_.front().first;
+  realTimeFactor_ = wallSpan > 0.0 ? (clock_.back().second - clock_.front().second) / wallSpan : 0.0;
+  lastStepWall_ = stepWall;
+  maxStepWall_ = std::max(maxStepWall_, stepWall);
+  const bool behind = stepWall > 1.0 / params_.rate;
+  if (behind) {
+    ++behindCount_;
+    ROS_WARN_THROTTLE(5.0, "simulation step took %.1f ms, more than its %.1f ms period",
+                      1e3 * stepWall, 1e3 / params_.rate);
+  }
+
+  const tt::FrameLog log = tt::measureFrame(system, static_cast<int>(step_), report);
+  const tt::StrainSummary strain = tt::measureStrain(system.mesh, system.state.x, params_.damageStrain);
+  maxStrain_ = strain.maxStrain;
+  tissue_trainer::TissueStatus msg;
+  msg.header.stamp = stamp;
+  msg.header.frame_id = params_.worldFrame;
+  msg.simulation_time = system.state.t;
+  msg.step_wall_time = stepWall;
+  msg.real_time_factor = realTimeFactor_;
+  msg.behind_schedule = behind;
+  msg.substeps = report.substeps;
+  msg.rejected_steps = report.rejected;
+  msg.newton_iterations = report.newtonIterations;
+  msg.linear_iterations = report.linearIterations;
+  msg.error_estimate = report.errorEstimate;
+  msg.kinetic_energy = log.kineticEnergy;
+  msg.elastic_energy = log.elasticEnergy;
+  msg.volume_ratio = log.volumeRatio;
+  msg.max_displacement = log.maxDisplacement;
+  msg.contact_force = lastContact_.f0.norm();
+  msg.max_strain = strain.maxStrain;
+  msg.damage_strain = params_.damageStrain;
+  msg.strained_volume = strain.strainedVolume;
+  msg.stable = report.ok;
+  msg.failure = report.failure;
+  statusPub_.publish(msg);
+}
+
+void SimulationNode::publishDiagnostics(const ros::SteadyTimerEvent&) {
+  if (!haveRobot_ && nh_.hasParam("robot_description")) {
+    try {
+      readRobotDescription();  // set after the node started
+    } catch (const std::exception& e) {
+      ROS_ERROR_THROTTLE(10.0, "%s", e.what());
+    }
+  }
+  diagnostic_msgs::DiagnosticArray array;
+  array.header.stamp = ros::Time::now();
+  diagnostic_msgs::DiagnosticStatus s;
+  s.name = "simulation";
+  s.hardware_id = scene_.name;
+  const bool slow = realTimeFactor_ < 0.9;
+  s.level = !stable_ ? diagnostic_msgs::DiagnosticStatus::ERROR
+            : slow || (scene_.contact && !contact_) ? diagnostic_msgs::DiagnosticStatus::WARN
+                                                    : diagnostic_msgs::DiagnosticStatus::OK;
+  s.message = !stable_ ? "integrator failed: " + failure_
+              : slow ? "behind real time"
+              : (scene_.contact && !contact_) ? "no instrument (no /robot_description)"
+                                              : "running";
+  auto add = [&s](const std::string& key, const std::string& value) {
+    diagnostic_msgs::KeyValue kv;
+    kv.key = key;
+    kv.value = value;
+    s.values.push_back(kv);
+  };
+  add("scene", scene_.file);
+  add("rate_hz", std::to_string(params_.rate));
+  add("real_time_factor", std::to_string(realTimeFactor_));
+  add("last_step_ms", std::to_string(1e3 * lastStepWall_));
+  add("max_step_ms", std::to_string(1e3 * maxStepWall_));
+  add("steps_behind_schedule", std::to_string(behindCount_));
+  add("integrator_failures", std::to_string(failures_));
+  add("last_failure", failure_);
+  add("in_contact", lastContact_.inContact ? "true" : "false");
+  add("contact_points", std::to_string(lastContact_.points.size()));
+  add("grasped_nodes", std::to_string(lastContact_.graspedNodes.size()));
+  add("contact_force_n", std::to_string(lastContact_.f0.norm()));
+  add("max_strain", std::to_string(maxStrain_));
+  add("tool", toolProblem_.empty() ? "ok" : toolProblem_);
+  add("jaw", haveJaw_ ? std::to_string(jawAngle_) : "no reading (open)");
+  array.status.push_back(s);
+  diagnosticsPub_.publish(array);
+  maxStepWall_ = 0.0;
+}
+
+bool SimulationNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+  scene_.system.state = initialState_;
+  if (contact_) contact_->clear();
+  stable_ = true;
+  clock_.clear();
+  res.success = true;
+  res.message = "scene '" + scene_.name + "' reset to its initial state";
+  ROS_INFO("%s", res.message.c_str());
+  return true;
+}
+
+bool SimulationNode::onLoadScene(tissue_trainer::LoadScene::Request& req,
+                                 tissue_trainer::LoadScene::Response& res) {
+  try {
+    loadScene(req.scene_file);
+  } catch (const std::exception& e) {
+    res.success = false;
+    res.message = e.what();
+    ROS_WARN("load_scene refused, keeping '%s': %s", scene_.name.c_str(), e.what());
+    return true;
+  }
+  clock_.clear();
+  stable_ = true;
+  res.success = true;
+  res.message = "loaded scene '" + scene_.name + "' (" + std::to_string(scene_.system.numNodes()) +
+                " nodes, " + std::to_string(scene_.system.mesh.numTets()) + " tets)";
+  ROS_INFO("%s", res.message.c_str());
+  return true;
+}
+
+}  // namespace tt_nodes

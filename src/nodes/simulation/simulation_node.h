@@ -1,0 +1,93 @@
+#pragma once
+// The simulation node: loads a scene, steps its integrator in real time on a steady timer,
+// couples the instrument (collision shapes from /robot_description, poses from tf2, jaw from
+// /instrument/jaw/measured_js) to the tissue through tt::TissueContact, and publishes the
+// contact model, the surface, a marker, the status and diagnostics. No physics here: the
+// core does it all; this class converts messages and parameters.
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <ros/ros.h>
+#include <sensor_msgs/JointState.h>
+#include <std_srvs/Trigger.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+
+#include <deque>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tissue_trainer/LoadScene.h"
+#include "tissue_trainer/core/contact/tissue_contact.h"
+#include "tissue_trainer/core/scene/display_surface.h"
+#include "tissue_trainer/core/scene/scene.h"
+
+namespace tt_nodes {
+
+struct SimulationParams {
+  std::string scene;
+  double rate = 100.0;          // Hz
+  int surfaceEvery = 1;         // publish /tissue/surface every n-th step
+  double markerRate = 2.0;      // Hz, /tissue/surface_marker
+  double damageStrain = 0.3;    // Green-strain norm counted as damage
+  std::string worldFrame = "world";
+  std::string tipFrame = "instrument_tip";
+};
+
+class SimulationNode {
+ public:
+  SimulationNode(ros::NodeHandle nh, ros::NodeHandle pnh);
+  // Reads the parameters and the scene; false (after one error line) when either is bad.
+  bool start();
+
+ private:
+  bool readParams();
+  // Replaces the scene (and rebuilds the contact) or throws tt::InputError.
+  void loadScene(const std::string& path);
+  void buildContact();
+  void readRobotDescription();
+  void step(const ros::SteadyTimerEvent&);
+  bool readTool(Eigen::Isometry3d& tip, std::vector<Eigen::Isometry3d>& links);
+  void publishContact(const tt::ContactResult& r, const ros::Time& stamp);
+  void publishSurface(const ros::Time& stamp);
+  void publishMarker(const ros::Time& stamp);
+  void publishStatus(const tt::StepReport& report, double stepWall, const ros::Time& stamp);
+  void publishDiagnostics(const ros::SteadyTimerEvent&);
+  void onJaw(const sensor_msgs::JointState& msg);
+  bool onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
+  bool onLoadScene(tissue_trainer::LoadScene::Request& req, tissue_trainer::LoadScene::Response& res);
+
+  ros::NodeHandle nh_, pnh_;
+  SimulationParams params_;
+  tt::Scene scene_;
+  tt::State initialState_;
+  tt::DisplaySurface display_;
+  std::unique_ptr<tt::TissueContact> contact_;
+  std::vector<tt::ToolShape> toolShapes_;
+  bool haveRobot_ = false;
+
+  tf2_ros::Buffer tfBuffer_;
+  tf2_ros::TransformListener tfListener_{tfBuffer_};
+  ros::Publisher contactPub_, surfacePub_, markerPub_, statusPub_, diagnosticsPub_;
+  ros::Subscriber jawSub_;
+  ros::ServiceServer resetSrv_, loadSrv_;
+  ros::SteadyTimer stepTimer_, diagnosticsTimer_;
+
+  double jawAngle_ = 1.0;  // open until a jaw reading arrives
+  bool haveJaw_ = false;
+  std::uint64_t step_ = 0, contactSeq_ = 0, surfaceSeq_ = 0;
+  bool trianglesChanged_ = true;
+  ros::WallTime lastMarker_;
+  bool stable_ = true;
+  std::string failure_;
+  std::string toolProblem_;
+
+  // Statistics for the status and the diagnostics.
+  std::deque<std::pair<double, double>> clock_;  // (wall s, simulation s) over the last second
+  double realTimeFactor_ = 0.0, lastStepWall_ = 0.0, maxStepWall_ = 0.0;
+  std::uint64_t behindCount_ = 0, failures_ = 0;
+  tt::ContactResult lastContact_;
+  double maxStrain_ = 0.0;
+};
+
+}  // namespace tt_nodes

@@ -1,0 +1,282 @@
+// Instrument-tissue contact (tissue_trainer_contact, Bullet): penalty forces of a sphere and
+// a capsule pressed into the top of a box grid, the contact stiffness against a finite
+// difference, no contact, grasp and release, Newton's third law.
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "tissue_trainer/core/contact/tissue_contact.h"
+#include "tissue_trainer/core/integrate/backward_euler.h"
+#include "tissue_trainer/core/mesh/generators.h"
+#include "tissue_trainer/core/model/edge_length.h"
+
+namespace tt {
+namespace {
+
+// A 4 cm x 2 cm x 4 cm block (3 x 3 x 3 nodes, 2 cm cells); its top face is y = 0.02.
+System block() {
+  Mesh mesh = boxGrid(3, 3, 3, Eigen::Vector3d(0.04, 0.02, 0.04), TetSplit::kFiveMirrored);
+  return System(std::move(mesh), {Material::transverselyIsotropic(3e3, 0.4, 3e3, 0.4, 1000)});
+}
+
+// Incentre of a top-face triangle (all three nodes on y = top) away from the block's edges.
+Eigen::Vector3d topIncentre(const System& s, double top) {
+  for (const Triangle& t : s.mesh.surface) {
+    Eigen::Vector3d p[3];
+    bool onTop = true;
+    for (int k = 0; k < 3; ++k) {
+      p[k] = s.mesh.rest.col(t[k]);
+      onTop = onTop && std::abs(p[k].y() - top) < 1e-12;
+    }
+    if (!onTop) continue;
+    const double a = (p[1] - p[2]).norm(), b = (p[2] - p[0]).norm(), c = (p[0] - p[1]).norm();
+    return (a * p[0] + b * p[1] + c * p[2]) / (a + b + c);
+  }
+  ADD_FAILURE() << "no top triangle";
+  return Eigen::Vector3d::Zero();
+}
+
+ToolShape sphere(double r) {
+  ToolShape s;
+  s.type = ToolShape::Type::kSphere;
+  s.radius = r;
+  s.link = "tip";
+  return s;
+}
+
+Eigen::Isometry3d at(const Eigen::Vector3d& p) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = p;
+  return pose;
+}
+
+ContactSettings settings(double k = 300.0) {
+  ContactSettings c;
+  c.stiffness = k;
+  c.graspStiffness = 150.0;
+  return c;
+}
+
+TEST(Contact, SpherePressedIntoTheTopGivesNormalDepthAndForce) {
+  System s = block();
+  TissueContact contact(s, settings(), {sphere(0.005)});
+  const Eigen::Vector3d centre = topIncentre(s, 0.02);
+  const double depth = 0.001;
+  const Eigen::Vector3d tip = centre + Eigen::Vector3d(0, 0.005 - depth, 0);
+  contact.setTool(at(tip), {at(tip)}, 1.0, 0.0);
+  const ContactResult& r = contact.update();
+  ASSERT_TRUE(r.inContact);
+  ASSERT_EQ(r.points.size(), 1u);
+  EXPECT_NEAR(r.points[0].normal.y(), 1.0, 1e-6);
+  EXPECT_NEAR(r.points[0].depth, depth, 1e-6);
+  EXPECT_LT((r.points[0].tissuePoint - centre).norm(), 1e-6);
+  EXPECT_LT((r.f0 - Eigen::Vector3d(0, 300.0 * depth, 0)).norm(), 1e-3 * 300.0 * depth);
+  Eigen::Matrix3d expectedK = Eigen::Matrix3d::Zero();
+  expectedK(1, 1) = 300.0;
+  EXPECT_LT((r.K - expectedK).norm(), 1e-3);
+  EXPECT_LT((r.x0 - tip).norm(), 1e-15);
+}
+
+TEST(Contact, CapsuleAcrossTheTopPushesStraightUp) {
+  System s = block();
+  ToolShape capsule;
+  capsule.type = ToolShape::Type::kCapsule;
+  capsule.radius = 0.004;
+  capsule.length = 0.02;
+  capsule.link = "shaft";
+  TissueContact contact(s, settings(), {capsule});
+  // Lying along x over the middle of the top face, 1.5 mm deep.
+  Eigen::Isometry3d pose = at(Eigen::Vector3d(0.02, 0.02 + 0.004 - 0.0015, 0.013));
+  pose.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  contact.setTool(pose, {pose}, 1.0, 0.0);
+  const ContactResult& r = contact.update();
+  ASSERT_TRUE(r.inContact);
+  ASSERT_GE(r.points.size(), 2u);
+  double deepest = 0.0;
+  for (const ContactPoint& p : r.points) {
+    EXPECT_NEAR(p.normal.y(), 1.0, 1e-4);
+    EXPECT_LE(p.depth, 0.0015 + 1e-5);
+    deepest = std::max(deepest, p.depth);
+  }
+  EXPECT_NEAR(deepest, 0.0015, 1e-5);
+  EXPECT_GT(r.f0.y(), 300.0 * 0.0015 - 1e-9);
+  EXPECT_LT(std::hypot(r.f0.x(), r.f0.z()), 1e-6 * r.f0.y());
+}
+
+TEST(Contact, StiffnessMatchesAFiniteDifferenceOfTheToolForce) {
+  System s = block();
+  TissueContact contact(s, settings(), {sphere(0.005)});
+  // Off the incentres: the sphere overlaps several top triangles.
+  const Eigen::Vector3d tip(0.031, 0.02 + 0.005 - 0.0008, 0.021);
+  auto forceAt = [&](const Eigen::Vector3d& p) {
+    contact.setTool(at(p), {at(p)}, 1.0, 0.0);
+    return contact.update();
+  };
+  const ContactResult r = forceAt(tip);
+  ASSERT_TRUE(r.inContact);
+  const double h = 1e-6;
+  Eigen::Matrix3d fd;
+  for (int j = 0; j < 3; ++j) {
+    const Eigen::Vector3d e = h * Eigen::Vector3d::Unit(j);
+    fd.col(j) = -(forceAt(tip + e).f0 - forceAt(tip - e).f0) / (2 * h);
+  }
+  EXPECT_LT((fd - r.K).norm(), 2e-2 * r.K.norm()) << "K\n" << r.K << "\nfd\n" << fd;
+  EXPECT_LT((r.K - r.K.transpose()).norm(), 1e-12);
+  EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(r.K).eigenvalues().minCoeff(), -1e-9);
+}
+
+TEST(Contact, NoContactGivesZeroForceAndStiffness) {
+  System s = block();
+  TissueContact contact(s, settings(), {sphere(0.005)});
+  const Eigen::Vector3d tip(0.02, 0.02 + 0.0051, 0.02);
+  contact.setTool(at(tip), {at(tip)}, 1.0, 0.0);
+  const ContactResult& r = contact.update();
+  EXPECT_FALSE(r.inContact);
+  EXPECT_TRUE(r.points.empty());
+  EXPECT_EQ(r.f0, Eigen::Vector3d::Zero());
+  EXPECT_EQ(r.K, Eigen::Matrix3d::Zero());
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(s.numDofs());
+  contact.model().addForce(s.state.x, s.state.v, f);
+  EXPECT_EQ(f.cwiseAbs().maxCoeff(), 0.0);
+
+  // Without a tool: no contact either.
+  contact.clearTool();
+  EXPECT_FALSE(contact.update().inContact);
+}
+
+TEST(Contact, ForceOnTissueIsMinusForceOnTool) {
+  System s = block();
+  ContactSettings c = settings();
+  c.damping = 0.5;
+  TissueContact contact(s, c, {sphere(0.006)});
+  s.state.v.setRandom();
+  s.state.v *= 0.01;
+  contact.setTool(at(Eigen::Vector3d(0.012, 0.0245, 0.017)), {at(Eigen::Vector3d(0.012, 0.0245, 0.017))}, 1.0, 0.0);
+  contact.update();
+  contact.setTool(at(Eigen::Vector3d(0.012, 0.024, 0.017)), {at(Eigen::Vector3d(0.012, 0.024, 0.017))}, 1.0, 0.01);
+  const ContactResult& r = contact.update();
+  ASSERT_TRUE(r.inContact);
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(s.numDofs());
+  contact.model().addForce(s.state.x, s.state.v, f);
+  Eigen::Vector3d onTissue = Eigen::Vector3d::Zero();
+  for (int a = 0; a < s.numNodes(); ++a) onTissue += f.segment<3>(3 * a);
+  EXPECT_LT((onTissue + r.f0).norm(), 1e-12 * (1.0 + r.f0.norm()));
+  EXPECT_GT(r.f0.y(), 0.0);
+}
+
+TEST(Contact, TissueStiffnessIsTheDerivativeOfTheTissueForce) {
+  System s = block();
+  TissueContact contact(s, settings(), {sphere(0.006)});
+  const Eigen::Vector3d tip(0.012, 0.024, 0.017);
+  contact.setTool(at(tip), {at(tip)}, 1.0, 0.0);
+  ASSERT_TRUE(contact.update().inContact);
+  SparseMatrix K = s.pattern.zeroMatrix();
+  contact.model().addStiffness(s.state.x, 1.0, s.pattern, K);
+  const Eigen::MatrixXd dense = Eigen::MatrixXd(K);
+  const double h = 1e-7;
+  const Eigen::VectorXd v = Eigen::VectorXd::Zero(s.numDofs());
+  for (int dof = 0; dof < s.numDofs(); ++dof) {
+    Eigen::VectorXd xp = s.state.x, xm = s.state.x, fp = v, fm = v;
+    xp[dof] += h;
+    xm[dof] -= h;
+    contact.model().addForce(xp, v, fp);
+    contact.model().addForce(xm, v, fm);
+    EXPECT_LT(((fp - fm) / (2 * h) - dense.col(dof)).norm(), 1e-5) << "dof " << dof;
+  }
+}
+
+TEST(Contact, GraspAttachesWhenTheJawClosesAndReleasesWhenItOpens) {
+  System s = block();
+  ContactSettings c = settings();
+  c.graspRadius = 0.004;
+  ToolShape jaw = sphere(0.002);
+  jaw.jaw = true;
+  TissueContact contact(s, c, {jaw});
+  // A top corner node of the middle (free) x-z cell: node (2, 2, 1) is at (0.04, 0.02, 0.02).
+  const Eigen::Vector3d node(0.02, 0.02, 0.02);
+  const Eigen::Vector3d tip = node + Eigen::Vector3d(0, 0.0025, 0);
+  contact.setTool(at(tip), {at(tip)}, 0.5, 0.0);  // open: nothing held, no penetration
+  EXPECT_FALSE(contact.update().inContact);
+  contact.setTool(at(tip), {at(tip)}, 0.0, 0.01);  // closed
+  const ContactResult grasped = contact.update();
+  ASSERT_TRUE(grasped.grasping);
+  ASSERT_EQ(grasped.graspedNodes.size(), 1u);
+  EXPECT_LT((s.mesh.rest.col(grasped.graspedNodes[0]) - node).norm(), 1e-12);
+  EXPECT_LT(grasped.f0.norm(), 1e-12);  // anchors start where the nodes are
+
+  // Pulling up 1 cm: the spring pulls the tool back down with k_g * 1 cm; K = k_g I.
+  const Eigen::Vector3d pulled = tip + Eigen::Vector3d(0, 0.01, 0);
+  contact.setTool(at(pulled), {at(pulled)}, 0.0, 0.02);
+  const ContactResult pulling = contact.update();
+  ASSERT_TRUE(pulling.grasping);
+  EXPECT_LT((pulling.f0 - Eigen::Vector3d(0, -150.0 * 0.01, 0)).norm(), 1e-9);
+  EXPECT_LT((pulling.K - 150.0 * Eigen::Matrix3d::Identity()).norm(), 1e-9);
+
+  // Stepping the tissue: the grasped node follows the tip upward.
+  s.models.insert(s.models.begin(),
+                  std::make_unique<EdgeLengthModel>(s.mesh, s.materials));
+  for (int a = 0; a < s.numNodes(); ++a)
+    if (s.mesh.rest(1, a) < 1e-12) s.mesh.nodeTags[a] = kFixedAll;
+  s.updateConstraints();
+  BackwardEulerIntegrator integrator;
+  for (int step = 0; step < 20; ++step) {
+    contact.setTool(at(pulled), {at(pulled)}, 0.0, 0.02 + 0.01 * step);
+    contact.update();
+    ASSERT_TRUE(integrator.advance(s, 0.01).ok);
+  }
+  const int held = grasped.graspedNodes[0];
+  EXPECT_GT(s.state.x[3 * held + 1], node.y() + 0.002);
+
+  // Opening releases: no force, nothing held.
+  contact.setTool(at(pulled), {at(pulled)}, 0.5, 1.0);
+  const ContactResult released = contact.update();
+  EXPECT_FALSE(released.grasping);
+  EXPECT_FALSE(released.inContact);
+  EXPECT_EQ(released.f0, Eigen::Vector3d::Zero());
+}
+
+TEST(Contact, NonFiniteToolPoseIsRejected) {
+  System s = block();
+  TissueContact contact(s, settings(), {sphere(0.005)});
+  Eigen::Isometry3d bad = at(Eigen::Vector3d(0.02, 0.024, 0.02));
+  bad.translation().x() = std::nan("");
+  try {
+    contact.setTool(bad, {at(Eigen::Vector3d::Zero())}, 0.0, 0.0);
+    FAIL() << "accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("tip pose is not finite"), std::string::npos);
+  }
+  EXPECT_THROW(contact.setTool(at(Eigen::Vector3d::Zero()), {bad}, 0.0, 0.0), std::invalid_argument);
+  EXPECT_THROW(contact.setTool(at(Eigen::Vector3d::Zero()), {at(Eigen::Vector3d::Zero())},
+                               std::numeric_limits<double>::infinity(), 0.0),
+               std::invalid_argument);
+  EXPECT_FALSE(contact.update().inContact);
+}
+
+TEST(Contact, PressingWithImplicitStepsStaysFiniteAndPushesTheSurfaceDown) {
+  System s = block();
+  s.models.push_back(std::make_unique<EdgeLengthModel>(s.mesh, s.materials));
+  for (int a = 0; a < s.numNodes(); ++a)
+    if (s.mesh.rest(1, a) < 1e-12) s.mesh.nodeTags[a] = kFixedAll;
+  s.updateConstraints();
+  s.damping = 2.0 * s.mass;
+  TissueContact contact(s, settings(2000.0), {sphere(0.005)});
+  BackwardEulerIntegrator integrator;
+  const Eigen::Vector3d start(0.02, 0.0255, 0.02);
+  double lastForce = 0.0;
+  for (int step = 0; step < 100; ++step) {
+    const Eigen::Vector3d tip = start - Eigen::Vector3d(0, 0.00005 * std::min(step, 60), 0);
+    contact.setTool(at(tip), {at(tip)}, 1.0, 0.01 * step);
+    const ContactResult& r = contact.update();
+    ASSERT_TRUE(r.f0.allFinite() && r.K.allFinite());
+    lastForce = r.f0.y();
+    ASSERT_TRUE(integrator.advance(s, 0.01).ok) << "step " << step;
+  }
+  EXPECT_GT(lastForce, 0.0);
+  EXPECT_LT(s.state.x.segment<3>(3 * (1 + 3 * (2 + 3 * 1))).y(), 0.02 - 0.001);
+}
+
+}  // namespace
+}  // namespace tt
