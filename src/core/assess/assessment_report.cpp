@@ -18,6 +18,13 @@ void emitCounts(YAML::Emitter& e, const char* name, const StreamCounts& c) {
     << YAML::Key << "out_of_order" << YAML::Value << c.outOfOrder << YAML::EndMap;
 }
 
+// A table cell: '|' would end it.
+std::string cell(const std::string& text) {
+  std::string out;
+  for (char c : text) out += c == '|' ? std::string("\\|") : std::string(1, c);
+  return out;
+}
+
 std::string number(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.6g", v);
@@ -64,7 +71,7 @@ std::string assessmentMarkdown(const AssessmentReport& r, const std::string& sou
     << "| metric | value | unit | definition |\n|---|---|---|---|\n";
   for (const Metric& m : r.metrics)
     s << "| " << m.key << " | " << (m.hasData ? number(m.value) : "no data") << " | " << m.unit
-      << " | " << m.definition << " |\n";
+      << " | " << cell(m.definition) << " |\n";
   s << "\nSettings: force_threshold " << number(r.settings.forceThreshold)
     << " N, movement_speed_start " << number(r.settings.movementSpeedStart)
     << " m/s, movement_speed_stop " << number(r.settings.movementSpeedStop)
@@ -82,7 +89,8 @@ std::string assessmentSummary(const AssessmentReport& r) {
   for (const Metric& m : r.metrics) {
     char line[96];
     std::snprintf(line, sizeof line, "  %-24s %14s %s\n", m.key.c_str(),
-                  m.hasData ? number(m.value).c_str() : "no data", m.hasData ? m.unit.c_str() : "");
+                  m.hasData ? number(m.value).c_str() : "no data",
+                  m.hasData && m.unit != "1" ? m.unit.c_str() : "");
     s << line;
   }
   return s.str();
@@ -98,9 +106,12 @@ std::string writeAssessment(const AssessmentReport& r, const std::string& dir,
     out << text;
     if (!out) throw std::runtime_error(path + ": cannot write the file");
   };
-  const std::string yaml = (std::filesystem::path(dir) / "assessment.yaml").string();
-  write(yaml, assessmentYaml(r, source));
+  // The Markdown first, the YAML last and atomically: once assessment.yaml is there, both are.
   write((std::filesystem::path(dir) / "assessment.md").string(), assessmentMarkdown(r, source));
+  const std::string yaml = (std::filesystem::path(dir) / "assessment.yaml").string();
+  write(yaml + ".tmp", assessmentYaml(r, source));
+  std::filesystem::rename(yaml + ".tmp", yaml, ec);
+  if (ec) throw std::runtime_error(yaml + ": cannot write the file (" + ec.message() + ")");
   return yaml;
 }
 

@@ -12,8 +12,8 @@ std::string assessmentMarkdown(const AssessmentReport& report, const std::string
 // A few lines for a terminal.
 std::string assessmentSummary(const AssessmentReport& report);
 
-// Creates dir if needed and writes dir/assessment.yaml and dir/assessment.md; returns the
-// YAML path. Throws std::runtime_error naming the file it could not write.
+// Creates dir if needed and writes dir/assessment.md, then dir/assessment.yaml (through a
+// rename, so a reader never sees a partial YAML); returns the YAML path. Throws std::runtime_error naming the file it could not write.
 std::string writeAssessment(const AssessmentReport& report, const std::string& dir,
                             const std::string& source);
 

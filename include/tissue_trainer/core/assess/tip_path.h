@@ -10,8 +10,8 @@
 // segment point-reflected at its ends (x(-t) = 2 x(0) - x(t)), so straight lines stay exact.
 // White position noise of spectral density S (m^2/Hz per axis: sigma^2 / sample rate) leaves
 // a jerk variance of about 0.53 S / smoothing_time^7 per axis, so the smoothing time trades
-// noise against the jerk of fast movements: 0.03 s (-3 dB at 4.4 Hz) leaves ~0.007 m^2/s^6
-// from 10 um noise at 1 kHz, 6 % of a minimum-jerk 10 cm / 2 s reach.
+// noise against the jerk of fast movements: 0.03 s (-3 dB at 4.4 Hz) leaves ~0.008 m^2/s^6
+// from 10 um noise at 1 kHz, 7 % of a minimum-jerk 10 cm / 2 s reach.
 // Derivatives are central differences on the smoothed grid, point-reflected at its ends the
 // same way, so every grid point of a segment of at least 3 points has a speed and a jerk.
 #include <cstddef>
