@@ -1,0 +1,24 @@
+#pragma once
+// Thresholds and filter settings of the training assessment. The same keys are the node's
+// private parameters (config/assessment.yaml) and the YAML file assess_bag --config reads.
+#include <string>
+
+namespace tt {
+
+struct AssessmentSettings {
+  double forceThreshold = 1.5;       // force_threshold (N): excessive-force level
+  double movementSpeedStart = 0.01;  // movement_speed_start (m/s): a movement starts above it
+  double movementSpeedStop = 0.005;  // movement_speed_stop (m/s): and ends below it (hysteresis)
+  double resampleRate = 100.0;       // resample_rate (Hz): tip path window-averaged to this grid
+  double smoothingTime = 0.03;       // smoothing_time (s): Gaussian sigma on the resampled path
+  double maxGap = 0.5;               // max_gap (s): a longer gap between samples carries no weight
+
+  // Throws std::invalid_argument "KEY: expected ..., got VALUE" for the first bad value.
+  void validate() const;
+};
+
+// Reads the keys above from a flat YAML map (unknown keys and non-numbers are errors; missing
+// keys keep their defaults) and validates. Throws InputError "FILE: KEY: what was expected".
+AssessmentSettings loadAssessmentSettings(const std::string& yamlFile);
+
+}  // namespace tt

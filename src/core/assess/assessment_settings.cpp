@@ -1,0 +1,71 @@
+#include "tissue_trainer/core/assess/assessment_settings.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "tissue_trainer/core/error.h"
+#include "tissue_trainer/core/scene/yaml_reader.h"
+
+namespace tt {
+namespace {
+
+std::string show(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+void require(bool ok, const char* key, const std::string& expected, double value) {
+  if (!ok) throw std::invalid_argument(std::string(key) + ": expected " + expected + ", got " + show(value));
+}
+
+}  // namespace
+
+void AssessmentSettings::validate() const {
+  auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+  require(positive(forceThreshold), "force_threshold", "a positive force (N)", forceThreshold);
+  require(positive(movementSpeedStart), "movement_speed_start", "a positive speed (m/s)",
+          movementSpeedStart);
+  require(positive(movementSpeedStop) && movementSpeedStop <= movementSpeedStart,
+          "movement_speed_stop", "a positive speed (m/s) <= movement_speed_start",
+          movementSpeedStop);
+  require(positive(resampleRate) && resampleRate <= 10000.0, "resample_rate",
+          "a rate in (0, 10000] Hz", resampleRate);
+  require(std::isfinite(smoothingTime) && smoothingTime >= 0.0, "smoothing_time",
+          "a time >= 0 s (0: no smoothing)", smoothingTime);
+  require(std::isfinite(maxGap) && maxGap >= 2.0 / resampleRate, "max_gap",
+          "a time (s) of at least two resampling steps (2 / resample_rate)", maxGap);
+}
+
+AssessmentSettings loadAssessmentSettings(const std::string& yamlFile) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(yamlFile);
+  } catch (const YAML::BadFile&) {
+    throw InputError(yamlFile, 0, "cannot open the file");
+  } catch (const YAML::Exception& e) {
+    throw InputError(yamlFile, e.mark.line + 1, e.msg);
+  }
+  const YamlEntry top(root, "", &yamlFile);
+  // output_dir and summary_rate belong to the node; the file is shared with it.
+  top.expectMap({"force_threshold", "movement_speed_start", "movement_speed_stop",
+                 "resample_rate", "smoothing_time", "max_gap", "output_dir", "summary_rate"});
+  AssessmentSettings s;
+  s.forceThreshold = top.number("force_threshold", s.forceThreshold);
+  s.movementSpeedStart = top.number("movement_speed_start", s.movementSpeedStart);
+  s.movementSpeedStop = top.number("movement_speed_stop", s.movementSpeedStop);
+  s.resampleRate = top.number("resample_rate", s.resampleRate);
+  s.smoothingTime = top.number("smoothing_time", s.smoothingTime);
+  s.maxGap = top.number("max_gap", s.maxGap);
+  try {
+    s.validate();
+  } catch (const std::invalid_argument& e) {
+    throw InputError(yamlFile, 0, e.what());
+  }
+  return s;
+}
+
+}  // namespace tt

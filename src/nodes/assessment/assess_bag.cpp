@@ -1,0 +1,173 @@
+// assess_bag BAG [--out DIR] [--config FILE] [--force-threshold N] ...: the training
+// assessment of a recorded session, computed by the same accumulator as the online node
+// from the messages' header stamps. Writes DIR/assessment.yaml and DIR/assessment.md and
+// prints a summary. Exit codes: 0 ok, 1 the report could not be written, 2 bad usage,
+// unreadable bag or missing topics (one line on stderr).
+#include <ros/message_traits.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <functional>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "session_messages.h"
+#include "tissue_trainer/core/assess/assessment_report.h"
+#include "tissue_trainer/core/error.h"
+
+namespace {
+
+const char* kUsage =
+    "usage: assess_bag BAG [--out DIR] [--config FILE] [--force-threshold N]\n"
+    "                  [--movement-speed-start V] [--movement-speed-stop V] [--resample-rate HZ]\n"
+    "                  [--smoothing-time S] [--max-gap S]\n"
+    "                  [--tip-topic T] [--contact-topic T] [--status-topic T]\n"
+    "  --out DIR      where assessment.yaml and assessment.md go (default: assessment)\n"
+    "  --config FILE  settings YAML (the node's config/assessment.yaml); flags override it\n";
+
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+double parseNumber(const std::string& flag, const std::string& text) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(v))
+    throw UsageError(flag + ": expected a number, got '" + text + "'");
+  return v;
+}
+
+struct Options {
+  std::string bag, out = "assessment", config;
+  std::map<std::string, double> numbers;  // flag -> value, applied over the config file
+  tt::SessionTopics topics;
+};
+
+Options parse(int argc, char** argv) {
+  Options o;
+  const std::vector<std::string> numeric = {"--force-threshold", "--movement-speed-start",
+                                            "--movement-speed-stop", "--resample-rate",
+                                            "--smoothing-time", "--max-gap"};
+  std::map<std::string, std::string*> text = {{"--out", &o.out}, {"--config", &o.config},
+                                              {"--tip-topic", &o.topics.tip},
+                                              {"--contact-topic", &o.topics.contact},
+                                              {"--status-topic", &o.topics.status}};
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool isNumeric = std::find(numeric.begin(), numeric.end(), arg) != numeric.end();
+    if (isNumeric || text.count(arg)) {
+      if (i + 1 >= argc) throw UsageError(arg + ": expected a value");
+      const std::string value = argv[++i];
+      if (isNumeric)
+        o.numbers[arg] = parseNumber(arg, value);
+      else
+        *text[arg] = value;
+    } else if (!arg.empty() && arg[0] == '-') {
+      throw UsageError("unknown option '" + arg + "'");
+    } else if (o.bag.empty()) {
+      o.bag = arg;
+    } else {
+      throw UsageError("one bag expected, got '" + o.bag + "' and '" + arg + "'");
+    }
+  }
+  if (o.bag.empty()) throw UsageError("missing BAG");
+  const tt::SessionTopics& t = o.topics;
+  if (t.tip == t.contact || t.tip == t.status || t.contact == t.status)
+    throw UsageError("the tip, contact and status topics must differ");
+  return o;
+}
+
+tt::AssessmentSettings settingsOf(const Options& o) {
+  tt::AssessmentSettings s = o.config.empty() ? tt::AssessmentSettings{} : tt::loadAssessmentSettings(o.config);
+  const std::map<std::string, double*> fields = {
+      {"--force-threshold", &s.forceThreshold}, {"--movement-speed-start", &s.movementSpeedStart},
+      {"--movement-speed-stop", &s.movementSpeedStop}, {"--resample-rate", &s.resampleRate},
+      {"--smoothing-time", &s.smoothingTime}, {"--max-gap", &s.maxGap}};
+  for (const auto& [flag, value] : o.numbers) *fields.at(flag) = value;
+  try {
+    s.validate();
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  return s;
+}
+
+// Checks that every topic is in the bag with the expected type; throws naming what is wrong.
+void checkTopics(const rosbag::Bag& bag, const std::string& path, const tt::SessionTopics& t) {
+  const std::map<std::string, std::string> expected = {
+      {t.tip, ros::message_traits::datatype<geometry_msgs::PoseStamped>()},
+      {t.contact, ros::message_traits::datatype<tissue_trainer::ContactModel>()},
+      {t.status, ros::message_traits::datatype<tissue_trainer::TissueStatus>()}};
+  std::map<std::string, std::string> found;
+  rosbag::View all(bag);
+  for (const rosbag::ConnectionInfo* c : all.getConnections()) found[c->topic] = c->datatype;
+  std::string missing;
+  for (const auto& [topic, type] : expected) {
+    const auto it = found.find(topic);
+    if (it == found.end())
+      missing += (missing.empty() ? "" : ", ") + topic;
+    else if (it->second != type)
+      throw std::runtime_error(path + ": topic " + topic + " is " + it->second + ", expected " + type);
+  }
+  if (!missing.empty()) throw std::runtime_error(path + ": missing topics: " + missing);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options options;
+  tt::AssessmentSettings settings;
+  try {
+    options = parse(argc, argv);
+    settings = settingsOf(options);
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "assess_bag: %s\n%s", e.what(), kUsage);
+    return 2;
+  } catch (const tt::InputError& e) {
+    std::fprintf(stderr, "assess_bag: %s\n", e.what());
+    return 2;
+  }
+
+  tt::SessionFeeder feeder(settings);
+  std::size_t messages = 0;
+  try {
+    rosbag::Bag bag;
+    bag.open(options.bag, rosbag::bagmode::Read);
+    checkTopics(bag, options.bag, options.topics);
+    const tt::SessionTopics& t = options.topics;
+    rosbag::View view(bag, rosbag::TopicQuery({t.tip, t.contact, t.status}));
+    for (const rosbag::MessageInstance& m : view) {
+      ++messages;
+      if (m.getTopic() == t.tip)
+        feeder.feed(*m.instantiate<geometry_msgs::PoseStamped>());
+      else if (m.getTopic() == t.contact)
+        feeder.feed(*m.instantiate<tissue_trainer::ContactModel>());
+      else
+        feeder.feed(*m.instantiate<tissue_trainer::TissueStatus>());
+    }
+  } catch (const rosbag::BagException& e) {
+    std::fprintf(stderr, "assess_bag: %s: cannot read the bag (%s)\n", options.bag.c_str(), e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "assess_bag: %s\n", e.what());
+    return 2;
+  }
+
+  const tt::AssessmentReport report = feeder.report();
+  try {
+    const std::string yaml = tt::writeAssessment(report, options.out, options.bag);
+    std::printf("assess_bag: %s: %zu messages -> %s\n%s", options.bag.c_str(), messages, yaml.c_str(),
+                tt::assessmentSummary(report).c_str());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "assess_bag: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
