@@ -210,10 +210,13 @@ void SimulationNode::publishSurface(const ros::Time& stamp) {
   msg.sequence = ++surfaceSeq_;
   msg.positions.assign(positions.data(), positions.data() + positions.size());
   msg.triangles_changed = trianglesChanged_;
-  if (trianglesChanged_) {
+  // Also once a second: a subscriber whose queue dropped the message that carried them
+  // (a renderer busy drawing while the simulation runs at 100 Hz) would never get them.
+  if (trianglesChanged_ || (stamp - lastTrianglesStamp_).toSec() >= kTrianglesResendPeriod) {
     for (const tt::Triangle& t : display_.triangles())
       msg.triangles.insert(msg.triangles.end(), t.begin(), t.end());
     trianglesChanged_ = false;
+    lastTrianglesStamp_ = stamp;
   }
   surfacePub_.publish(msg);
 }

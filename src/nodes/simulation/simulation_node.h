@@ -76,7 +76,9 @@ class SimulationNode {
   double jawAngle_ = 1.0;  // open until a jaw reading arrives
   bool haveJaw_ = false;
   std::uint64_t step_ = 0, contactSeq_ = 0, surfaceSeq_ = 0;
+  static constexpr double kTrianglesResendPeriod = 1.0;  // s
   bool trianglesChanged_ = true;
+  ros::Time lastTrianglesStamp_;
   ros::WallTime lastMarker_;
   bool stable_ = true;
   std::string failure_;
