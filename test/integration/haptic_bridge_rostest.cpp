@@ -381,7 +381,7 @@ TEST_F(HapticBridgeTest, BadInputNeverReachesTheOutput) {
     }
   });
   device.nanEvery = 0;
-  sleepFor(0.3);
+  sim.run(0.3, 100.0, [&](int, double) { sim.send(c, f0, K); });  // models keep coming
   const std::vector<Sample> s = between(wrenches.samples(), t0, t1);
   ASSERT_GT(s.size(), 1000u);
   double worst = 0.0;
@@ -399,6 +399,8 @@ TEST_F(HapticBridgeTest, BadInputNeverReachesTheOutput) {
   EXPECT_GT(device.nanSent, 30);
 
   // A silent device is unsafe too: the force fades out within device_timeout + fade_time.
+  sim.run(0.2, 100.0, [&](int, double) { sim.send(c, f0, K); });
+  ASSERT_NEAR((wrenches.samples().back().force - f0).norm(), 0.0, 1e-9) << "steady before the pause";
   device.paused = true;
   const double tPause = now();
   sim.run(0.5, 100.0, [&](int, double) { sim.send(c, f0, K); });
@@ -411,6 +413,7 @@ TEST_F(HapticBridgeTest, BadInputNeverReachesTheOutput) {
   std::printf("[bad input] device paused: last non-zero wrench %.1f ms later (device_timeout %.0f ms + fade %.0f ms)\n",
               1e3 * (lastNonZero - tPause), 1e3 * deviceTimeout, 1e3 * fade);
   EXPECT_LE(lastNonZero, tPause + deviceTimeout + fade + 0.005);
+  EXPECT_GT(lastNonZero, tPause + deviceTimeout - 0.005);  // not before the device timeout
   EXPECT_FALSE(status.after(now()).device_fresh);
   device.paused = false;
   const double tBack = sim.run(0.5, 100.0, [&](int, double) { sim.send(c, f0, K); });

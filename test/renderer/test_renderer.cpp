@@ -84,18 +84,19 @@ TEST(Renderer, ShadedLiverAndInstrument) {
   tip.translation() = Eigen::Vector3d(-0.035, 0.075, 0.09);
   const auto shapes = tt_render::defaultInstrument("instrument_tip", 0.3);
 
-  const auto start = std::chrono::steady_clock::now();
-  const int frames = 10;
+  const int frames = 10;  // after one warm-up frame (llvmpipe compiles its shaders)
   std::vector<std::uint8_t> rgb;
-  for (int f = 0; f < frames; ++f) {
+  auto start = std::chrono::steady_clock::now();
+  for (int f = 0; f <= frames; ++f) {
+    if (f == 1) start = std::chrono::steady_clock::now();
     r.beginFrame();
     r.drawMesh(liver.positions, normals, liver.triangles, Rgb{0.62f, 0.22f, 0.18f});
     tt_render::drawShapes(r, shapes, std::vector<Eigen::Isometry3d>(shapes.size(), tip));
     r.readRgb(rgb);
   }
   const double ms = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / frames;
-  std::printf("[renderer] 640x480, %zu triangles + instrument: %.1f ms per frame\n",
-              liver.triangles.size() / 3, ms);
+  std::printf("[renderer] %s, 640x480, %zu triangles + instrument: %.1f ms per frame\n",
+              r.glRenderer().c_str(), liver.triangles.size() / 3, ms);
   tt_render::writePng(outPath("liver_instrument.png"), r.width(), r.height(), rgb);
 
   // Background where nothing is: the top-left corner.
@@ -124,7 +125,7 @@ TEST(Renderer, ShadedLiverAndInstrument) {
   ASSERT_TRUE(r.project(Eigen::Vector3d(-0.036, 0.06, 0.06), col, row));
   const Pixel organ = at(rgb, r.width(), col, row);
   EXPECT_GT(organ.r, organ.g + 30) << "liver expected at (" << col << ", " << row << ")";
-  ASSERT_TRUE(r.project(Eigen::Vector3d(-0.035, 0.075, 0.15), col, row));  // on the shaft
+  ASSERT_TRUE(r.project(Eigen::Vector3d(-0.035, 0.075, 0.12), col, row));  // on the shaft
   const Pixel shaft = at(rgb, r.width(), col, row);
   EXPECT_LT(std::abs(shaft.r - shaft.b), 40) << "grey instrument expected at (" << col << ", " << row << ")";
   EXPECT_GT(shaft.sum(), 150);
@@ -155,3 +156,8 @@ TEST(Renderer, UrdfShapesAreParsed) {
 }
 
 }  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}

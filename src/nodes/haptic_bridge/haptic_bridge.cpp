@@ -1,5 +1,6 @@
 #include "haptic_bridge.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 

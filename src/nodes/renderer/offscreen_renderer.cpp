@@ -76,6 +76,11 @@ OffscreenRenderer::~OffscreenRenderer() {
   if (context_->gl) OSMesaDestroyContext(context_->gl);
 }
 
+std::string OffscreenRenderer::glRenderer() const {
+  const GLubyte* s = glGetString(GL_RENDERER);
+  return s ? reinterpret_cast<const char*>(s) : "unknown";
+}
+
 void OffscreenRenderer::makeCurrent() {
   if (!OSMesaMakeCurrent(context_->gl, context_->buffer.data(), GL_UNSIGNED_BYTE, width_, height_))
     throw std::runtime_error("OffscreenRenderer: OSMesaMakeCurrent failed");

@@ -4,6 +4,7 @@
 // fixed-function GL with a headlight. No ROS here, so it can be unit-tested on its own.
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -36,6 +37,7 @@ class OffscreenRenderer {
   OffscreenRenderer& operator=(const OffscreenRenderer&) = delete;
 
   int width() const { return width_; }
+  std::string glRenderer() const;  // GL_RENDERER, e.g. llvmpipe
   int height() const { return height_; }
 
   void setCamera(const Camera& camera);
