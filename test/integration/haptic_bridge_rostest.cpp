@@ -9,12 +9,18 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <ctime>
 #include <functional>
 #include <limits>
 #include <mutex>
+#include <string>
 #include <thread>
+#include <utility>
 #include <vector>
+
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <Eigen/Core>
 #include <geometry_msgs/PoseStamped.h>
@@ -469,6 +475,33 @@ TEST(HapticBridgeExtrapolation, LinearBeatsZeroOrderHold) {
               rmsF, eLinear, eZoh);
   EXPECT_LT(eLinear, eZoh);
   EXPECT_LT(eLinear, 0.5 * eZoh);
+}
+
+// Malformed parameters: one error line naming the parameter, exit code 2. The bridge binary
+// sits beside this test's binary (devel/lib/tissue_trainer).
+TEST(HapticBridgeParams, MalformedValueNamesTheParameter) {
+  char self[4096] = {0};
+  ASSERT_GT(readlink("/proc/self/exe", self, sizeof self - 1), 0);
+  std::string exe(self);
+  exe = exe.substr(0, exe.rfind('/')) + "/haptic_bridge";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"max_force", "abc"}, {"fade_time", "0.2"}, {"extrapolation", "cubic"},
+      {"require_enable", "1"}, {"max_force_rate", "10"}, {"rate", "-5"}};
+  int n = 0;
+  for (const auto& c : cases) {
+    const std::string cmd = "timeout 20 " + exe + " __name:=bad_bridge_" + std::to_string(n++) + " _" +
+                            c.first + ":=" + c.second + " 2>&1";
+    FILE* pipe = popen(cmd.c_str(), "r");
+    ASSERT_NE(pipe, nullptr);
+    std::string out;
+    char buf[512];
+    while (std::fgets(buf, sizeof buf, pipe)) out += buf;
+    const int status = pclose(pipe);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << c.first << ": " << out;
+    EXPECT_NE(out.find("bad parameter"), std::string::npos) << out;
+    EXPECT_NE(out.find(c.first), std::string::npos) << out;
+    std::printf("[params] %s:=%s -> %s", c.first.c_str(), c.second.c_str(), out.c_str());
+  }
 }
 
 }  // namespace

@@ -3,7 +3,11 @@
 // as PNG frames.
 #include <ros/ros.h>
 
+#include <sys/stat.h>
+
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <cstdio>
 #include <mutex>
 
@@ -86,6 +90,8 @@ class RendererNode {
       poseSub_ = nh.subscribe("instrument/measured_cp", 5, &RendererNode::onPose, this);
       ROS_INFO("renderer: instrument from /instrument/measured_cp");
     }
+    if (!params_.pngDir.empty() && ::mkdir(params_.pngDir.c_str(), 0755) != 0 && errno != EEXIST)
+      throw tt_nodes::ParamError("~png_dir: cannot create " + params_.pngDir + ": " + std::strerror(errno));
     surfaceSub_ = nh.subscribe("tissue/surface", 5, &RendererNode::onSurface, this);
     imagePub_ = nh.advertise<sensor_msgs::Image>("camera/image_raw", 2);
     publishCameraFrame();
