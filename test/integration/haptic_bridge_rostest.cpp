@@ -24,7 +24,9 @@
 
 #include <Eigen/Core>
 #include <geometry_msgs/PoseStamped.h>
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/WrenchStamped.h>
+#include <std_msgs/Bool.h>
 
 #include "tissue_trainer/ContactModel.h"
 #include "tissue_trainer/HapticStatus.h"
@@ -418,7 +420,7 @@ TEST_F(HapticBridgeTest, BadInputNeverReachesTheOutput) {
   }
   std::printf("[bad input] device paused: last non-zero wrench %.1f ms later (device_timeout %.0f ms + fade %.0f ms)\n",
               1e3 * (lastNonZero - tPause), 1e3 * deviceTimeout, 1e3 * fade);
-  EXPECT_LE(lastNonZero, tPause + deviceTimeout + fade + 0.005);
+  EXPECT_LE(lastNonZero, tPause + deviceTimeout + fade + 0.015);  // + delivery of the last pose
   EXPECT_GT(lastNonZero, tPause + deviceTimeout - 0.005);  // not before the device timeout
   EXPECT_FALSE(status.after(now()).device_fresh);
   device.paused = false;
@@ -428,6 +430,52 @@ TEST_F(HapticBridgeTest, BadInputNeverReachesTheOutput) {
   ASSERT_FALSE(back.empty());
   EXPECT_GT(back.back().stamp, tBack - 0.05);
   EXPECT_NEAR((back.back().force - f0).norm(), 0.0, 1e-9) << "the force came back";
+}
+
+// With ~require_enable the force follows /device/enable: zero while false, back over
+// resume_time when true, faded out within fade_time when it goes false again. /diagnostics
+// carries the bridge's status.
+TEST_F(HapticBridgeTest, EnableGatesTheForce) {
+  const double fade = bridgeParam("fade_time");
+  ros::Publisher enable = nh.advertise<std_msgs::Bool>("device/enable", 10, true);
+  std::mutex dm;
+  std::string diagnosticsName;
+  ros::Subscriber diag = nh.subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10,
+      [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& a) {
+        std::lock_guard<std::mutex> l(dm);
+        if (!a->status.empty()) diagnosticsName = a->status[0].name;
+      });
+  ASSERT_TRUE(waitFor([&] { return enable.getNumSubscribers() > 0; }, 10.0));
+  device.start([&](double) { return c; });
+  const Eigen::Vector3d f0(0.0, 0.0, 1.5);
+  const Eigen::Matrix3d K = Eigen::Matrix3d::Zero();
+  std_msgs::Bool b;
+  b.data = false;
+  enable.publish(b);
+  const double t0 = now();
+  sim.run(0.5, 100.0, [&](int, double) { sim.send(c, f0, K); });
+  for (const Sample& x : between(wrenches.samples(), t0, now()))
+    ASSERT_EQ(x.force.norm(), 0.0) << "force while disabled";
+  b.data = true;
+  enable.publish(b);
+  sim.run(0.5, 100.0, [&](int, double) { sim.send(c, f0, K); });
+  EXPECT_NEAR((wrenches.samples().back().force - f0).norm(), 0.0, 1e-9) << "enabled: full force";
+  b.data = false;
+  enable.publish(b);
+  const double tOff = now();
+  sim.run(0.3, 100.0, [&](int, double) { sim.send(c, f0, K); });
+  double lastNonZero = tOff;
+  for (const Sample& x : between(wrenches.samples(), tOff, now()))
+    if (x.force.norm() != 0.0) lastNonZero = x.stamp;
+  std::printf("[enable] disabled: last non-zero wrench %.1f ms later (fade %.0f ms)\n",
+              1e3 * (lastNonZero - tOff), 1e3 * fade);
+  EXPECT_LE(lastNonZero, tOff + fade + 0.015);  // + delivery of the enable message
+  EXPECT_FALSE(status.after(now()).enabled);
+  ASSERT_TRUE(waitFor([&] {
+    std::lock_guard<std::mutex> l(dm);
+    return !diagnosticsName.empty();
+  }, 3.0));
+  EXPECT_EQ(diagnosticsName, "haptic_bridge: force loop");
 }
 
 // A device moving through a known linear field f(x) = fc - k (x - c); the simulation sends
