@@ -45,7 +45,7 @@ HapticBridge::HapticBridge(ros::NodeHandle& nh, ros::NodeHandle& privateNh,
   servoPub_ = nh.advertise<geometry_msgs::WrenchStamped>("device/servo_cf", 100);
   statusPub_ = privateNh.advertise<tissue_trainer::HapticStatus>("status", 10);
   diagnosticsPub_ = nh.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
-  deviceSub_ = nh.subscribe("device/measured_cp", 10, &HapticBridge::onDevicePose, this, hints);
+  deviceSub_ = nh.subscribe("device/measured_cp", 100, &HapticBridge::onDevicePose, this, hints);
   contactSub_ = nh.subscribe("tissue/contact", 100, &HapticBridge::onContact, this, hints);
   if (params_.requireEnable)
     enableSub_ = nh.subscribe("device/enable", 10, &HapticBridge::onEnable, this, hints);
