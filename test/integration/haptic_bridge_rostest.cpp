@@ -507,6 +507,7 @@ TEST(HapticBridgeExtrapolation, LinearBeatsZeroOrderHold) {
     const Eigen::Vector3d x0 = path(t);
     sim.send(x0, field(x0), K);
   });
+  device.stop();  // its path refers to locals declared after it
   const auto rms = [&](WrenchRecorder& r, double& rmsForce) {
     const std::vector<Sample> s = between(r.samples(), t0, t1);
     double e2 = 0.0, f2 = 0.0;
