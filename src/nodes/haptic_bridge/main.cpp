@@ -1,0 +1,31 @@
+// haptic_bridge: contact models from the simulation in, device force out at 1 kHz.
+#include <ros/ros.h>
+
+#include <exception>
+
+#include "../common/param_reader.h"
+#include "bridge_params.h"
+#include "haptic_bridge.h"
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "haptic_bridge");
+  ros::NodeHandle nh;
+  ros::NodeHandle privateNh("~");
+  tt_nodes::BridgeParams params;
+  try {
+    params = tt_nodes::readBridgeParams(privateNh);
+  } catch (const tt_nodes::ParamError& e) {
+    ROS_FATAL("haptic_bridge: bad parameter %s", e.what());
+    return 2;
+  }
+  tt_nodes::HapticBridge bridge(nh, privateNh, params);
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  bridge.start();
+  ROS_INFO("haptic_bridge: %.0f Hz, max_force %.2f N, model_timeout %.3f s, device_timeout %.3f s",
+           params.rate, params.pipeline.safety.maxForce, params.pipeline.safety.modelTimeout,
+           params.deviceTimeout);
+  ros::waitForShutdown();
+  bridge.stop();
+  return 0;
+}
