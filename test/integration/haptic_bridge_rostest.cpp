@@ -458,10 +458,20 @@ TEST_F(HapticBridgeTest, EnableGatesTheForce) {
   sim.run(0.5, 100.0, [&](int, double) { sim.send(c, f0, K); });
   for (const Sample& x : between(wrenches.samples(), t0, now()))
     ASSERT_EQ(x.force.norm(), 0.0) << "force while disabled";
-  b.data = true;
-  enable.publish(b);
-  sim.run(0.5, 100.0, [&](int, double) { sim.send(c, f0, K); });
+  b.data = true;  // a deadman is a stream: an enable older than device_timeout is released
+  sim.run(0.5, 100.0, [&](int, double) {
+    enable.publish(b);
+    sim.send(c, f0, K);
+  });
   EXPECT_NEAR((wrenches.samples().back().force - f0).norm(), 0.0, 1e-9) << "enabled: full force";
+  const double tSilent = now();
+  sim.run(0.3, 100.0, [&](int, double) { sim.send(c, f0, K); });
+  EXPECT_EQ(wrenches.samples().back().force.norm(), 0.0) << "a silent deadman still enables";
+  EXPECT_FALSE(status.after(now()).enabled) << "deadman silent since " << tSilent;
+  sim.run(0.5, 100.0, [&](int, double) {
+    enable.publish(b);
+    sim.send(c, f0, K);
+  });
   b.data = false;
   enable.publish(b);
   const double tOff = now();

@@ -85,6 +85,7 @@ void HapticBridge::onDevicePose(const geometry_msgs::PoseStamped::ConstPtr& msg)
 void HapticBridge::onEnable(const std_msgs::Bool::ConstPtr& msg) {
   std::lock_guard<std::mutex> lock(inputMutex_);
   device_.enabled = msg->data;
+  device_.enableAt = monotonicSeconds();
 }
 
 void HapticBridge::onContact(const tissue_trainer::ContactModel::ConstPtr& msg) {
@@ -130,6 +131,9 @@ void HapticBridge::tick() {
 
   const bool fresh = now - device.receivedAt <= params_.deviceTimeout;
   if (!fresh) ++deviceStaleTicks_;
+  // A deadman that stopped publishing counts as released, like a silent device.
+  device.enabled = device.enabled &&
+                   (!params_.requireEnable || now - device.enableAt <= params_.deviceTimeout);
   const Eigen::Vector3d f = pipeline_.tick(device.position, now, fresh && device.enabled);
 
   wrench_.header.seq = static_cast<std::uint32_t>(pipeline_.loopStats().totalTicks());

@@ -40,6 +40,7 @@ class HapticBridge {
     Eigen::Vector3d position = Eigen::Vector3d::Zero();
     double receivedAt = -1e300;  // monotonic s; never
     bool enabled = false;
+    double enableAt = -1e300;  // monotonic s of the last /device/enable message
     std::uint64_t nonFinite = 0;
   };
   struct PendingModel {

@@ -6,7 +6,7 @@
 int main(int argc, char** argv) {
   ros::init(argc, argv, "simulation");
   tt_nodes::SimulationNode node(ros::NodeHandle(), ros::NodeHandle("~"));
-  if (!node.start()) return 1;
+  if (!node.start()) return 2;
   ros::spin();
   return 0;
 }

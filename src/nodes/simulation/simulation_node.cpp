@@ -116,7 +116,15 @@ void SimulationNode::loadScene(const std::string& path) {
 
 bool SimulationNode::readTool(Eigen::Isometry3d& tip, std::vector<Eigen::Isometry3d>& links) {
   try {
-    tip = toEigen(tfBuffer_.lookupTransform(params_.worldFrame, params_.tipFrame, ros::Time(0)).transform);
+    const geometry_msgs::TransformStamped tipTf =
+        tfBuffer_.lookupTransform(params_.worldFrame, params_.tipFrame, ros::Time(0));
+    // A frozen pose (the kinematics stopped) must not keep feeding contact at an old place.
+    const double age = (ros::Time::now() - tipTf.header.stamp).toSec();
+    if (age > kToolTimeout) {
+      toolProblem_ = "instrument pose is " + std::to_string(age) + " s old";
+      return false;
+    }
+    tip = toEigen(tipTf.transform);
     links.clear();
     for (const tt::ToolShape& s : toolShapes_)
       links.push_back(toEigen(tfBuffer_.lookupTransform(params_.worldFrame, s.link, ros::Time(0)).transform));

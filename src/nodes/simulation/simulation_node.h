@@ -77,6 +77,7 @@ class SimulationNode {
   bool haveJaw_ = false;
   std::uint64_t step_ = 0, contactSeq_ = 0, surfaceSeq_ = 0;
   static constexpr double kTrianglesResendPeriod = 1.0;  // s
+  static constexpr double kToolTimeout = 0.2;  // s: an older instrument pose means no tool
   bool trianglesChanged_ = true;
   ros::Time lastTrianglesStamp_;
   ros::WallTime lastMarker_;
