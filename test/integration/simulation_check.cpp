@@ -63,10 +63,12 @@ struct Probe {
       if (m->positions.size() % 3 != 0 || m->positions.empty()) badSurface = true;
       for (float p : m->positions) badSurface = badSurface || !std::isfinite(p);
       lastVertices = m->positions.size() / 3;
+      // A change always carries the triangles; they are also resent once a second unchanged.
+      if (m->triangles_changed && m->triangles.empty()) badSurface = true;
       if (!m->triangles.empty()) {
         ++surfacesWithTriangles;
         lastTriangles = m->triangles.size() / 3;
-        if (!m->triangles_changed || m->triangles.size() % 3 != 0) badSurface = true;
+        if (m->triangles.size() % 3 != 0) badSurface = true;
         for (uint32_t t : m->triangles) badSurface = badSurface || t >= lastVertices;
       }
     }));
