@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -26,7 +27,9 @@
 #include <geometry_msgs/PoseStamped.h>
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/WrenchStamped.h>
+#include <ros/master.h>
 #include <std_msgs/Bool.h>
+#include <xmlrpcpp/XmlRpcClient.h>
 
 #include "tissue_trainer/ContactModel.h"
 #include "tissue_trainer/HapticStatus.h"
@@ -393,11 +396,16 @@ TEST_F(HapticBridgeTest, BadInputNeverReachesTheOutput) {
   const std::vector<Sample> s = between(wrenches.samples(), t0, t1);
   ASSERT_GT(s.size(), 1000u);
   double worst = 0.0;
+  Sample worstSample{};
   for (const Sample& x : s) {
     ASSERT_TRUE(x.force.allFinite());
-    worst = std::max(worst, (x.force - f0).norm());
+    if ((x.force - f0).norm() > worst) {
+      worst = (x.force - f0).norm();
+      worstSample = x;
+    }
   }
-  EXPECT_LT(worst, 1e-9) << "the bad inputs disturbed the force";
+  EXPECT_LT(worst, 1e-9) << "the bad inputs disturbed the force: tick " << worstSample.seq << " at "
+                         << worstSample.stamp - t0 << " s: " << worstSample.force.transpose();
   const tissue_trainer::HapticStatus st = status.after(now());
   std::printf("[bad input] sent %d bad models, %d NaN device poses; status malformed %lu, device_non_finite %lu, non_finite_forces %lu\n",
               badModels, int(device.nanSent), (unsigned long)(st.models_malformed - malformedBefore),
@@ -536,6 +544,67 @@ TEST(HapticBridgeExtrapolation, LinearBeatsZeroOrderHold) {
               rmsF, eLinear, eZoh);
   EXPECT_LT(eLinear, eZoh);
   EXPECT_LT(eLinear, 0.5 * eZoh);
+}
+
+// The process id of a running node, asked over its XML-RPC slave API (getPid); -1 if unknown.
+int nodePid(const std::string& node) {
+  XmlRpc::XmlRpcValue args, result, payload;
+  args[0] = ros::this_node::getName();
+  args[1] = node;
+  if (!ros::master::execute("lookupNode", args, result, payload, true)) return -1;
+  const std::string uri = payload;  // http://host:port/
+  const std::size_t hostAt = uri.find("://") + 3, portAt = uri.rfind(':');
+  const std::string host = uri.substr(hostAt, portAt - hostAt);
+  const int port = std::atoi(uri.c_str() + portAt + 1);
+  XmlRpc::XmlRpcClient client(host.c_str(), port, "/");
+  XmlRpc::XmlRpcValue call, reply;
+  call[0] = ros::this_node::getName();
+  if (!client.execute("getPid", call, reply) || reply.getType() != XmlRpc::XmlRpcValue::TypeArray)
+    return -1;
+  return int(reply[2]);
+}
+
+// SIGINT (what roslaunch sends on shutdown): the force fades to zero within fade_time,
+// within the rate limit, and the last wrench is exactly zero; the models keep coming.
+TEST_F(HapticBridgeTest, ShutdownFadesToZero) {
+  const double fade = bridgeParam("fade_time");
+  const double maxRate = bridgeParam("max_force_rate");
+  const int pid = nodePid("/haptic_bridge");
+  ASSERT_GT(pid, 0);
+  device.start([&](double) { return c; });
+  const Eigen::Vector3d f0(0.0, 3.0, 0.0);
+  const Eigen::Matrix3d K = Eigen::Matrix3d::Zero();
+  double tKill = 0.0;
+  sim.run(1.5, 100.0, [&](int i, double t) {
+    if (i == 100) {
+      tKill = t;
+      ASSERT_EQ(kill(pid, SIGINT), 0);
+    }
+    sim.send(c, f0, K);
+  });
+  const std::vector<Sample> all = wrenches.samples();
+  const std::vector<Sample> before = between(all, tKill - 0.2, tKill);
+  ASSERT_FALSE(before.empty());
+  for (const Sample& s : before) ASSERT_NEAR((s.force - f0).norm(), 0.0, 1e-9) << "steady force before SIGINT";
+  const std::vector<Sample> after = between(all, tKill, tKill + 10.0);
+  ASSERT_FALSE(after.empty()) << "no wrench after SIGINT";
+  double firstZero = -1.0, worstStep = 0.0;
+  for (std::size_t i = 0; i < after.size(); ++i) {
+    ASSERT_TRUE(after[i].force.allFinite());
+    if (firstZero < 0.0 && after[i].force.norm() == 0.0) firstZero = after[i].stamp;
+    if (i > 0 && after[i].seq == after[i - 1].seq + 1) {
+      const double step = (after[i].force - after[i - 1].force).norm();
+      worstStep = std::max(worstStep, step);
+      EXPECT_LE(step, maxRate * (after[i].stamp - after[i - 1].stamp + 0.0002) + 1e-9);
+    }
+  }
+  std::printf("[shutdown] %zu wrenches after SIGINT; zero %.1f ms after it (fade_time %.0f ms), "
+              "largest step %.4f N, last %.3g N\n", after.size(), 1e3 * (firstZero - tKill), 1e3 * fade,
+              worstStep, after.back().force.norm());
+  EXPECT_EQ(after.back().force.norm(), 0.0);
+  ASSERT_GT(firstZero, 0.0);
+  EXPECT_LE(firstZero - tKill, fade + 0.02);  // the signal reaches the loop within ~10 ms
+  EXPECT_TRUE(waitFor([&] { return nodePid("/haptic_bridge") < 0; }, 5.0)) << "the bridge did not exit";
 }
 
 // Malformed parameters: one error line naming the parameter, exit code 2. The bridge binary

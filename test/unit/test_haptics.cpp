@@ -243,6 +243,35 @@ TEST(ForceExtrapolator, OutOfOrderAndDuplicateSequencesAreDropped) {
   EXPECT_EQ(fx.submit(contact(1, Vector3d::Zero(), Vector3d(0, 0, 1)), 0.5, Vector3d::Zero()), ModelVerdict::kAccepted);
 }
 
+// A simulation that restarts sends sequences from 1 again: after restartAfterStale of them in
+// a row the extrapolator starts over with the last one (fading in from zero); fewer, or a
+// newer sequence in between, keep the old model.
+TEST(ForceExtrapolator, RestartsAfterStaleModelsInARow) {
+  ExtrapolatorOptions o = noBlend();
+  o.restartAfterStale = 3;
+  ForceExtrapolator fx(o);
+  EXPECT_EQ(fx.submit(contact(100, Vector3d::Zero(), Vector3d(0, 0, 1)), 0.0, Vector3d::Zero()), ModelVerdict::kAccepted);
+  EXPECT_EQ(fx.submit(contact(1, Vector3d::Zero(), Vector3d(0, 0, 2)), 0.1, Vector3d::Zero()), ModelVerdict::kStaleSequence);
+  EXPECT_EQ(fx.submit(contact(2, Vector3d::Zero(), Vector3d(0, 0, 2)), 0.2, Vector3d::Zero()), ModelVerdict::kStaleSequence);
+  EXPECT_EQ(fx.submit(contact(101, Vector3d::Zero(), Vector3d(0, 0, 3)), 0.3, Vector3d::Zero()), ModelVerdict::kAccepted);
+  EXPECT_EQ(fx.counters().restarts, 0u);
+  EXPECT_EQ(fx.submit(contact(1, Vector3d::Zero(), Vector3d(0, 0, 7)), 0.4, Vector3d::Zero()), ModelVerdict::kStaleSequence);
+  EXPECT_EQ(fx.submit(contact(2, Vector3d::Zero(), Vector3d(0, 0, 7)), 0.5, Vector3d::Zero()), ModelVerdict::kStaleSequence);
+  EXPECT_DOUBLE_EQ(fx.force(Vector3d::Zero(), 0.5).z(), 3.0);
+  EXPECT_EQ(fx.submit(contact(3, Vector3d::Zero(), Vector3d(0, 0, 7)), 0.6, Vector3d::Zero()), ModelVerdict::kAccepted);
+  EXPECT_EQ(fx.counters().restarts, 1u);
+  EXPECT_EQ(fx.counters().staleSequence, 5u);
+  EXPECT_DOUBLE_EQ(fx.force(Vector3d::Zero(), 0.6).z(), 7.0);
+  EXPECT_EQ(fx.submit(contact(4, Vector3d::Zero(), Vector3d(0, 0, 8)), 0.7, Vector3d::Zero()), ModelVerdict::kAccepted);
+
+  o.restartAfterStale = 0;  // never
+  ForceExtrapolator never(o);
+  never.submit(contact(100, Vector3d::Zero(), Vector3d(0, 0, 1)), 0.0, Vector3d::Zero());
+  for (int i = 1; i <= 20; ++i)
+    EXPECT_EQ(never.submit(contact(i, Vector3d::Zero(), Vector3d(0, 0, 2)), 0.01 * i, Vector3d::Zero()), ModelVerdict::kStaleSequence);
+  EXPECT_EQ(never.counters().restarts, 0u);
+}
+
 TEST(ForceExtrapolator, InvalidOptionsThrow) {
   ExtrapolatorOptions o;
   o.blendTime = -0.01;
@@ -251,6 +280,9 @@ TEST(ForceExtrapolator, InvalidOptionsThrow) {
   EXPECT_THROW(ForceExtrapolator{o}, std::invalid_argument);
   o = ExtrapolatorOptions();
   o.maxStiffness = 0.0;
+  EXPECT_THROW(ForceExtrapolator{o}, std::invalid_argument);
+  o = ExtrapolatorOptions();
+  o.restartAfterStale = -1;
   EXPECT_THROW(ForceExtrapolator{o}, std::invalid_argument);
 }
 

@@ -11,6 +11,8 @@ ForceExtrapolator::ForceExtrapolator(const ExtrapolatorOptions& options) : optio
     throw std::invalid_argument("ForceExtrapolator: blendTime must be finite and >= 0");
   if (!(options.maxStiffness > 0.0))
     throw std::invalid_argument("ForceExtrapolator: maxStiffness must be > 0");
+  if (options.restartAfterStale < 0)
+    throw std::invalid_argument("ForceExtrapolator: restartAfterStale must be >= 0");
 }
 
 LinearForceField ForceExtrapolator::fieldOf(const ContactModel& model) const {
@@ -35,12 +37,17 @@ ModelVerdict ForceExtrapolator::submit(const ContactModel& model, double tReceiv
   const bool tooStiff = model.K.allFinite() && model.K.norm() > options_.maxStiffness;
   if (!model.isFinite() || !std::isfinite(tReceive) || tooStiff) {
     ++counters_.malformed;
+    consecutiveStale_ = 0;
     return ModelVerdict::kMalformed;
   }
   if (hasModel_ && model.sequence <= lastSequence_) {
     ++counters_.staleSequence;
-    return ModelVerdict::kStaleSequence;
+    if (options_.restartAfterStale == 0 || ++consecutiveStale_ < options_.restartAfterStale)
+      return ModelVerdict::kStaleSequence;
+    reset();  // the simulation restarted: this model fades in from zero
+    ++counters_.restarts;
   }
+  consecutiveStale_ = 0;
   // Blend from what the hand feels right now (itself possibly mid-blend), so a model arriving
   // mid-blend does not make a step either. The first model fades in from zero.
   const LinearForceField next = fieldOf(model);
@@ -89,6 +96,7 @@ void ForceExtrapolator::reset() {
   offset_.setZero();
   blendStart_ = lastReceive_ = 0.0;
   lastSequence_ = 0;
+  consecutiveStale_ = 0;
   hasModel_ = false;
 }
 

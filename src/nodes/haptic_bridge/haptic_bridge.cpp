@@ -15,7 +15,7 @@ namespace tt_nodes {
 namespace {
 
 constexpr int kRealtimePriority = 80;
-constexpr int kStaleResetCount = 5;  // this many older sequences in a row: a restarted simulation
+constexpr double kShutdownMargin = 0.2;  // s: stop() gives up fading after fade_time + this
 
 geometry_msgs::Vector3 toMsg(const Eigen::Vector3d& v) {
   geometry_msgs::Vector3 m;
@@ -38,7 +38,6 @@ HapticBridge::HapticBridge(ros::NodeHandle& nh, ros::NodeHandle& privateNh,
                            const BridgeParams& params)
     : params_(params), pipeline_(params.pipeline) {
   snapshotEvery_ = std::max(1, static_cast<int>(std::lround(params_.rate / 10.0)));
-  wrench_.header.frame_id = "world";
   device_.enabled = !params_.requireEnable;
 
   const ros::TransportHints hints = ros::TransportHints().tcpNoDelay();
@@ -62,11 +61,15 @@ HapticBridge::~HapticBridge() { stop(); }
 void HapticBridge::start() {
   running_ = true;
   thread_ = std::thread([this] { loop(); });
+  publisher_ = std::thread([this] { publishForces(); });
 }
 
 void HapticBridge::stop() {
-  running_ = false;
+  fadingOut_ = true;
   if (thread_.joinable()) thread_.join();
+  running_ = false;
+  forces_.wake();
+  if (publisher_.joinable()) publisher_.join();
 }
 
 void HapticBridge::onDevicePose(const geometry_msgs::PoseStamped::ConstPtr& msg) {
@@ -111,49 +114,77 @@ void HapticBridge::loop() {
     ROS_WARN("haptic_bridge: SCHED_FIFO refused (%s); the loop runs at normal priority",
              refused.c_str());
   PeriodicClock clock(1.0 / params_.rate);
-  while (running_ && ros::ok()) {
+  const double fadeLimit = params_.pipeline.safety.fadeTime + kShutdownMargin;
+  double fadeStart = -1.0;
+  while (ros::ok()) {
     clock.waitNext();
     tick();
+    if (!fadingOut_) continue;
+    const double now = monotonicSeconds();
+    if (fadeStart < 0.0) fadeStart = now;
+    const bool faded = pipeline_.safety().gain() == 0.0 && pipeline_.safety().output().isZero();
+    if (faded || now - fadeStart > fadeLimit) break;
+  }
+  ForceSample zero;  // the last wrench is exactly zero, whatever happened before
+  zero.tick = pipeline_.loopStats().totalTicks() + 1;
+  zero.stamp = ros::Time::now().toSec();
+  forces_.push(zero);
+}
+
+// Publishes the loop's force samples as they come (roscpp may allocate and lock here).
+void HapticBridge::publishForces() {
+  geometry_msgs::WrenchStamped wrench;
+  wrench.header.frame_id = "world";
+  ForceSample sample;
+  for (bool more = true; more;) {
+    more = running_;  // read before draining: nothing pushed before stop() is lost
+    forces_.wait(0.1);
+    while (forces_.pop(sample)) {
+      wrench.header.seq = static_cast<std::uint32_t>(sample.tick);
+      wrench.header.stamp.fromSec(sample.stamp);
+      wrench.wrench.force = toMsg(sample.force);
+      servoPub_.publish(wrench);
+    }
   }
 }
 
 void HapticBridge::tick() {
-  DeviceInput device;
   std::size_t n = 0;
-  {
-    std::lock_guard<std::mutex> lock(inputMutex_);
-    device = device_;
-    for (; n < modelsCount_; ++n) taken_[n] = models_[(modelsHead_ + n) % kModelQueue];
-    modelsHead_ = modelsCount_ = 0;
-  }
+  if (!takeInputs(n)) ++inputLockMisses_;
+  DeviceInput device = lastDevice_;
   const double now = monotonicSeconds();
   for (std::size_t i = 0; i < n; ++i) submit(taken_[i], device.position);
 
   const bool fresh = now - device.receivedAt <= params_.deviceTimeout;
   if (!fresh) ++deviceStaleTicks_;
   // A deadman that stopped publishing counts as released, like a silent device.
-  device.enabled = device.enabled &&
+  device.enabled = device.enabled && !fadingOut_ &&
                    (!params_.requireEnable || now - device.enableAt <= params_.deviceTimeout);
-  const Eigen::Vector3d f = pipeline_.tick(device.position, now, fresh && device.enabled);
-
-  wrench_.header.seq = static_cast<std::uint32_t>(pipeline_.loopStats().totalTicks());
-  wrench_.header.stamp = ros::Time::now();
-  wrench_.wrench.force = toMsg(f);
-  servoPub_.publish(wrench_);
+  ForceSample sample;
+  sample.force = pipeline_.tick(device.position, now, fresh && device.enabled);
+  sample.tick = pipeline_.loopStats().totalTicks();
+  sample.stamp = ros::Time::now().toSec();
+  forces_.push(sample);
 
   if (++ticksSinceSnapshot_ >= snapshotEvery_ && trySnapshot(now, device, fresh))
     ticksSinceSnapshot_ = 0;
 }
 
+// Copies the callbacks' latest inputs without waiting: false when a callback holds the lock
+// (this tick then runs on the inputs taken last; waiting models come next tick).
+bool HapticBridge::takeInputs(std::size_t& models) {
+  std::unique_lock<std::mutex> lock(inputMutex_, std::try_to_lock);
+  if (!lock.owns_lock()) return false;
+  lastDevice_ = device_;
+  for (models = 0; models < modelsCount_; ++models)
+    taken_[models] = models_[(modelsHead_ + models) % kModelQueue];
+  modelsHead_ = modelsCount_ = 0;
+  return true;
+}
+
 void HapticBridge::submit(const PendingModel& pending, const Eigen::Vector3d& xDevice) {
-  tt::ModelVerdict verdict = pipeline_.submit(pending.model, pending.receivedAt, xDevice);
-  if (verdict == tt::ModelVerdict::kStaleSequence && ++consecutiveStale_ >= kStaleResetCount) {
-    pipeline_.resetModels();
-    ++modelResets_;
-    verdict = pipeline_.submit(pending.model, pending.receivedAt, xDevice);
-  }
-  if (verdict != tt::ModelVerdict::kStaleSequence) consecutiveStale_ = 0;
-  if (verdict == tt::ModelVerdict::kAccepted) lastX0_ = pending.model.x0;
+  if (pipeline_.submit(pending.model, pending.receivedAt, xDevice) == tt::ModelVerdict::kAccepted)
+    lastX0_ = pending.model.x0;
 }
 
 // Copies the state for the status timers; never waits for the lock (retried next tick).
@@ -170,7 +201,8 @@ bool HapticBridge::trySnapshot(double now, const DeviceInput& device, bool fresh
   o.modelAge = e.modelAge(now);
   o.extrapolationDistance = e.hasModel() ? (device.position - lastX0_).norm() : 0.0;
   o.models = e.counters();
-  o.modelResets = modelResets_;
+  o.modelResets = e.counters().restarts;
+  o.inputLockMisses = inputLockMisses_;
   o.deviceFresh = fresh;
   o.enabled = device.enabled;
   o.deviceNonFinite = device.nonFinite;
@@ -209,6 +241,8 @@ void HapticBridge::publishStatus() {
   m.models_stale = o.models.staleSequence;
   m.model_resets = o.modelResets;
   m.models_dropped = o.modelsDropped;
+  m.input_lock_misses = o.inputLockMisses;
+  m.wrenches_dropped = forces_.dropped();
   m.device_fresh = o.deviceFresh;
   m.enabled = o.enabled;
   m.device_non_finite = o.deviceNonFinite;

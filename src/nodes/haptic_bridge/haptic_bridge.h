@@ -1,8 +1,12 @@
 #pragma once
-// The haptic bridge node: a dedicated loop thread runs tt::HapticPipeline at ~rate and
-// publishes /device/servo_cf every tick; subscriber callbacks (on an AsyncSpinner) hand the
-// latest device pose, enable input and contact models to the loop through small
-// mutex-protected copies; timers publish the status (10 Hz) and /diagnostics (1 Hz).
+// The haptic bridge node: a dedicated loop thread runs tt::HapticPipeline at ~rate; each
+// tick's force goes through a lock-free queue to a publisher thread that sends
+// /device/servo_cf (so the loop never allocates or waits in roscpp). Subscriber callbacks (on
+// an AsyncSpinner) hand the latest device pose, enable input and contact models to the loop
+// through small mutex-protected copies that the loop only try-locks (when a callback holds
+// the lock, the tick runs on the inputs it took last). Timers publish the status (10 Hz) and
+// /diagnostics (1 Hz). stop() fades the force to zero before the loop ends, and the last
+// wrench sent is exactly zero.
 //
 // Unsafe inputs: a device pose with NaN/Inf is dropped and counted (the last finite pose
 // stays); when no finite pose arrived within device_timeout (or none yet), the tick runs with
@@ -22,6 +26,7 @@
 #include <std_msgs/Bool.h>
 
 #include "bridge_params.h"
+#include "force_sample_queue.h"
 #include "tissue_trainer/ContactModel.h"
 #include "tissue_trainer/core/haptics/haptic_pipeline.h"
 
@@ -32,8 +37,10 @@ class HapticBridge {
   HapticBridge(ros::NodeHandle& nh, ros::NodeHandle& privateNh, const BridgeParams& params);
   ~HapticBridge();
 
-  void start();  // starts the loop thread
-  void stop();   // stops and joins it
+  void start();  // starts the loop and publisher threads
+  // Fades the force out (as a released deadman does, within fade_time), sends a zero wrench
+  // and joins both threads. Waits at most fade_time + 0.2 s.
+  void stop();
 
  private:
   struct DeviceInput {
@@ -53,7 +60,7 @@ class HapticBridge {
     bool hasModel = false;
     double modelAge = 0.0, extrapolationDistance = 0.0;
     tt::ExtrapolatorCounters models;
-    std::uint64_t modelResets = 0, modelsDropped = 0;
+    std::uint64_t modelResets = 0, modelsDropped = 0, inputLockMisses = 0;
     bool deviceFresh = false, enabled = false;
     std::uint64_t deviceNonFinite = 0, deviceStaleTicks = 0;
     double gain = 0.0;
@@ -69,6 +76,8 @@ class HapticBridge {
 
   void loop();
   void tick();
+  bool takeInputs(std::size_t& models);
+  void publishForces();
   void submit(const PendingModel& pending, const Eigen::Vector3d& xDevice);
   bool trySnapshot(double now, const DeviceInput& device, bool fresh);
 
@@ -92,16 +101,18 @@ class HapticBridge {
   // Owned by the loop thread.
   tt::HapticPipeline pipeline_;
   std::array<PendingModel, kModelQueue> taken_;
-  geometry_msgs::WrenchStamped wrench_;
+  DeviceInput lastDevice_;
+  std::uint64_t inputLockMisses_ = 0;
   Eigen::Vector3d lastX0_ = Eigen::Vector3d::Zero();
-  std::uint64_t deviceStaleTicks_ = 0, modelResets_ = 0;
-  int consecutiveStale_ = 0;
+  std::uint64_t deviceStaleTicks_ = 0;
   int ticksSinceSnapshot_ = 0;
   int snapshotEvery_ = 100;
 
+  ForceSampleQueue forces_;
   std::atomic<bool> running_{false};
+  std::atomic<bool> fadingOut_{false};
   std::atomic<bool> realtime_{false};
-  std::thread thread_;
+  std::thread thread_, publisher_;
 };
 
 }  // namespace tt_nodes

@@ -1,14 +1,26 @@
 // haptic_bridge: contact models from the simulation in, device force out at 1 kHz.
 #include <ros/ros.h>
 
+#include <csignal>
 #include <exception>
 
 #include "../common/param_reader.h"
 #include "bridge_params.h"
 #include "haptic_bridge.h"
 
+namespace {
+
+volatile std::sig_atomic_t g_stopRequested = 0;
+
+void requestStop(int) { g_stopRequested = 1; }
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  ros::init(argc, argv, "haptic_bridge");
+  // SIGINT (roslaunch, Ctrl-C) and SIGTERM stop the node only after the force has faded out.
+  ros::init(argc, argv, "haptic_bridge", ros::init_options::NoSigintHandler);
+  std::signal(SIGINT, requestStop);
+  std::signal(SIGTERM, requestStop);
   ros::NodeHandle nh;
   ros::NodeHandle privateNh("~");
   tt_nodes::BridgeParams params;
@@ -25,7 +37,9 @@ int main(int argc, char** argv) {
   ROS_INFO("haptic_bridge: %.0f Hz, max_force %.2f N, model_timeout %.3f s, device_timeout %.3f s",
            params.rate, params.pipeline.safety.maxForce, params.pipeline.safety.modelTimeout,
            params.deviceTimeout);
-  ros::waitForShutdown();
+  while (!g_stopRequested && ros::ok()) ros::WallDuration(0.002).sleep();
   bridge.stop();
+  ROS_INFO("haptic_bridge: force faded out, stopped");
+  ros::shutdown();
   return 0;
 }

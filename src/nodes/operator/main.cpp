@@ -7,12 +7,11 @@
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
 #include <std_msgs/Bool.h>
-#include <time.h>
 
-#include <cerrno>
 #include <cmath>
 
 #include "eigen_msgs.h"
+#include "periodic_clock.h"
 #include "tissue_trainer/core/haptics/loop_stats.h"
 #include "tissue_trainer/core/kinematics/tip_ik.h"
 #include "tissue_trainer/core/operator/task_script.h"
@@ -22,19 +21,9 @@
 namespace tt::nodes {
 namespace {
 
-double monotonicNow() {
-  timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
+using tt_nodes::monotonicSeconds;
 
-void addNanoseconds(timespec& t, long ns) {
-  t.tv_nsec += ns;
-  while (t.tv_nsec >= 1000000000L) {
-    t.tv_nsec -= 1000000000L;
-    ++t.tv_sec;
-  }
-}
+constexpr int kMaxLagTicks = 100;  // a tick this many periods late restarts the deadlines
 
 struct Settings {
   std::string task;
@@ -96,15 +85,13 @@ class Operator {
 
   void run() {
     const double dt = 1.0 / settings_.rate;
-    const long periodNs = std::lround(1e9 * dt);
     const long enableEvery = std::max(1L, std::lround(settings_.rate / 100.0));  // ~100 Hz
-    timespec next;
-    clock_gettime(CLOCK_MONOTONIC, &next);
-    const double start = monotonicNow();
+    tt_nodes::PeriodicClock clock(dt);
+    const double start = monotonicSeconds();
     std::string phase;
     for (long tick = 0; ros::ok(); ++tick) {
       ros::spinOnce();
-      const double now = monotonicNow();
+      const double now = monotonicSeconds();
       stats_.record(now);
       const double t = tick * dt - settings_.startDelay;
       const TaskSample target = task_.sample(t);
@@ -132,13 +119,7 @@ class Operator {
           break;
         }
       }
-      addNanoseconds(next, periodNs);
-      if (monotonicNow() - (next.tv_sec + 1e-9 * next.tv_nsec) > 0.1) {
-        clock_gettime(CLOCK_MONOTONIC, &next);  // more than 100 periods late: restart the clock
-        ++resyncs_;
-      }
-      while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next, nullptr) == EINTR) {
-      }
+      if (clock.waitNext(kMaxLagTicks)) ++resyncs_;
     }
   }
 
@@ -151,7 +132,7 @@ class Operator {
       return;
     }
     force_ = f;
-    forceTime_ = monotonicNow();
+    forceTime_ = monotonicSeconds();
   }
 
   // IK of the hand position, then publish the device's joints and tip pose.

@@ -41,12 +41,16 @@ struct ExtrapolatorOptions {
   BlendMethod blendMethod = BlendMethod::kOffset;
   // Models whose stiffness has a larger Frobenius norm (N/m) are rejected as malformed.
   double maxStiffness = std::numeric_limits<double>::infinity();
+  // This many stale sequences in a row mean the simulation restarted (its sequence began
+  // again): the extrapolator resets and takes the last of them. 0: never.
+  int restartAfterStale = 5;
 };
 
 struct ExtrapolatorCounters {
   std::uint64_t accepted = 0;
   std::uint64_t malformed = 0;       // non-finite numbers or stiffness above maxStiffness
   std::uint64_t staleSequence = 0;   // sequence not above the last accepted one
+  std::uint64_t restarts = 0;        // resets after restartAfterStale stale models in a row
 };
 
 enum class ModelVerdict { kAccepted, kMalformed, kStaleSequence };
@@ -54,14 +58,14 @@ enum class ModelVerdict { kAccepted, kMalformed, kStaleSequence };
 class ForceExtrapolator {
  public:
   // Throws std::invalid_argument for a negative or non-finite blend time, or a
-  // non-positive maxStiffness.
+  // non-positive maxStiffness or a negative restartAfterStale.
   explicit ForceExtrapolator(const ExtrapolatorOptions& options = {});
 
   // Offers a model taken in at tReceive (bridge clock), when the device was at xDevice (the
   // blend starts from the force felt there; kFields does not need it, and a non-finite
   // xDevice is replaced by the model's x0). A malformed model or
   // one whose sequence is not above the last accepted one is dropped and counted; the
-  // previous model stays in force.
+  // previous model stays in force (until restartAfterStale of them in a row restart it).
   ModelVerdict submit(const ContactModel& model, double tReceive, const Eigen::Vector3d& xDevice);
 
   // The force on the tool (N) at device position x and time tNow; zero before any model.
@@ -92,6 +96,7 @@ class ForceExtrapolator {
   double blendStart_ = 0.0;
   double lastReceive_ = 0.0;
   std::uint64_t lastSequence_ = 0;
+  int consecutiveStale_ = 0;
   bool hasModel_ = false;
   ExtrapolatorCounters counters_;
 };

@@ -1,0 +1,87 @@
+#!/usr/bin/env python3
+"""Markdown tables from the CSV files scripts/bench_training writes (haptic, graph, surface)."""
+import csv
+import os
+import platform
+import sys
+import time
+
+
+def rows(path):
+    if not os.path.exists(path):
+        return []
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def machine():
+    cpu = "unknown CPU"
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    cpu = line.split(":", 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    cores = os.cpu_count()
+    return f"{cpu}, {cores} cores, {platform.system()} {platform.release()}"
+
+
+def table(header, body):
+    out = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    out += ["| " + " | ".join(r) + " |" for r in body]
+    return "\n".join(out)
+
+
+def main(folder):
+    print("# Speed of the distributed training system\n")
+    print(f"Measured by `scripts/bench_training` on {machine()}, "
+          f"{time.strftime('%Y-%m-%d')}; every node a process of its own on this machine, "
+          "real master, TCPROS over loopback.\n")
+    haptic = rows(os.path.join(folder, "haptic.csv"))
+    if haptic:
+        h = haptic[-1]
+        print("## Haptic bridge alone (probe plays the device at 1 kHz and the simulation at 100 Hz)\n")
+        print(table(["quantity", "p50", "p99", "max"], [
+            ["bridge tick period (us), its own clock", h["bridge_period_p50_us"],
+             h["bridge_period_p99_us"], h["bridge_period_max_us"]],
+            ["wrench inter-arrival at the device (us)", h["wrench_gap_p50_us"],
+             h["wrench_gap_p99_us"], h["wrench_gap_max_us"]],
+            ["device pose -> force reflecting it (us)", h["latency_p50_us"],
+             h["latency_p99_us"], h["latency_max_us"]],
+        ]))
+        print(f"\n{h['latency_samples']} latency samples ({h['steps_missed']} steps not seen "
+              f"before the next), {h['bridge_ticks']} ticks, rate {h['bridge_rate_hz']} Hz, "
+              f"{h['bridge_overruns']} overruns, SCHED_FIFO {'yes' if h['bridge_realtime'] == '1' else 'no'}, "
+              f"{h['bridge_lock_misses']} input lock misses, {h['bridge_wrenches_dropped']} wrenches dropped.\n")
+    graph = rows(os.path.join(folder, "graph.csv"))
+    if graph:
+        print("## Training graph, liver palpation, scripted operator (100 Hz target)\n")
+        body = []
+        for g in graph:
+            body.append([g["label"].replace("_", " "), g["step_rate_hz"], g["step_wall_p50_ms"],
+                         g["step_wall_p99_ms"], g["step_wall_max_ms"], g["real_time_factor_p50"],
+                         f"{g['steps_behind']} / {g['steps']}", g["peak_contact_force_n"],
+                         g["bridge_period_p99_us"], g["bridge_period_max_us"],
+                         g["wrench_gap_max_us"]])
+        print(table(["mesh", "steps/s", "step p50 (ms)", "step p99 (ms)", "step max (ms)",
+                     "real-time factor", "behind / steps", "peak contact (N)",
+                     "bridge period p99 (us)", "bridge period max (us)",
+                     "wrench gap max (us)"], body))
+        print("\nA step is contact detection + one integrator advance + the surface message; "
+              "its wall time comes from /tissue/status.\n")
+    surface = rows(os.path.join(folder, "surface.csv"))
+    if surface:
+        print("## Topic transport of /tissue/surface (TissueSurface, 100 Hz, between two processes)\n")
+        body = [[s["vertices"], s["bytes"], s["latency_p50_us"], s["latency_p99_us"],
+                 s["latency_max_us"], s["bytes_with_triangles"], s["latency_with_triangles_p50_us"]]
+                for s in surface]
+        print(table(["vertices", "bytes", "latency p50 (us)", "p99 (us)", "max (us)",
+                     "bytes with triangles", "latency with triangles p50 (us)"], body))
+        print("\nLatency: from the stamp set just before publish() to the subscriber's callback "
+              "(serialisation, loopback TCP, deserialisation).")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1] if len(sys.argv) > 1 else ".")
