@@ -15,6 +15,9 @@ namespace tt_nodes {
 namespace {
 
 constexpr int kRealtimePriority = 80;
+// The publisher thread sends what the loop produced; below the loop, above everything else,
+// so that a busy machine delays the wrench as little as the loop.
+constexpr int kPublisherPriority = 70;
 constexpr double kShutdownMargin = 0.2;  // s: stop() gives up fading after fade_time + this
 
 geometry_msgs::Vector3 toMsg(const Eigen::Vector3d& v) {
@@ -133,6 +136,7 @@ void HapticBridge::loop() {
 
 // Publishes the loop's force samples as they come (roscpp may allocate and lock here).
 void HapticBridge::publishForces() {
+  tryRealtime(kPublisherPriority);  // refused: it runs at normal priority, as the loop says
   geometry_msgs::WrenchStamped wrench;
   wrench.header.frame_id = "world";
   ForceSample sample;

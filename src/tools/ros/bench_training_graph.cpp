@@ -492,12 +492,16 @@ int main(int argc, char** argv) {
   ros::AsyncSpinner spinner(2);
   spinner.start();
   int rc = 2;
+  // The spinner stops (ros::shutdown) before a probe goes out of scope: no callback may
+  // reach a destroyed probe.
   if (o.mode == "haptic") {
     HapticProbe probe(nh);
     rc = probe.run(o);
+    ros::shutdown();
   } else if (o.mode == "graph") {
     GraphProbe probe(nh);
     rc = probe.run(o);
+    ros::shutdown();
   } else if (o.mode == "surface_source") {
     rc = surfaceSource(nh, o);
   } else if (o.mode == "surface_sink") {
