@@ -14,7 +14,7 @@ struct AssessmentNodeParams {
   double summaryRate = 1.0;              // Hz
 };
 
-// Throws std::invalid_argument "parameter ~KEY: expected ..., got ..." for the first bad one.
+// Throws tt_nodes::ParamError "/node/KEY: expected ..., got ..." for the first bad one.
 AssessmentNodeParams readAssessmentNodeParams(const ros::NodeHandle& privateNh);
 
 }  // namespace tt

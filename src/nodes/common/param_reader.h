@@ -31,6 +31,18 @@ class ParamReader {
     return d;
   }
 
+  // Any finite number (its range is checked by whoever uses it).
+  double number(const std::string& name, double fallback) const {
+    XmlRpc::XmlRpcValue v;
+    if (!nh_.getParam(name, v)) return fallback;
+    double d = 0.0;
+    if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) d = static_cast<double>(v);
+    else if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) d = static_cast<int>(v);
+    else fail(name, "a finite number", v);
+    if (!std::isfinite(d)) fail(name, "a finite number", v);
+    return d;
+  }
+
   bool flag(const std::string& name, bool fallback) const {
     XmlRpc::XmlRpcValue v;
     if (!nh_.getParam(name, v)) return fallback;

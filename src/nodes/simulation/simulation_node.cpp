@@ -182,8 +182,11 @@ void SimulationNode::step(const ros::SteadyTimerEvent&) {
   }
   stable_ = report.ok;
 
-  if (step_ % params_.surfaceEvery == 0) publishSurface(stamp);
-  if ((ros::WallTime::now() - lastMarker_).toSec() >= 1.0 / params_.markerRate) {
+  const bool surfaceDue = step_ % params_.surfaceEvery == 0;
+  const bool markerDue = (ros::WallTime::now() - lastMarker_).toSec() >= 1.0 / params_.markerRate;
+  if (surfaceDue || markerDue) display_.positions(system.state.x, displayPositions_);
+  if (surfaceDue) publishSurface(stamp);
+  if (markerDue) {
     publishMarker(stamp);
     lastMarker_ = ros::WallTime::now();
   }
@@ -210,8 +213,7 @@ void SimulationNode::publishContact(const tt::ContactResult& r, const ros::Time&
 }
 
 void SimulationNode::publishSurface(const ros::Time& stamp) {
-  Eigen::Matrix3Xd positions;
-  display_.positions(scene_.system.state.x, positions);
+  const Eigen::Matrix3Xd& positions = displayPositions_;
   tissue_trainer::TissueSurface msg;
   msg.header.stamp = stamp;
   msg.header.frame_id = params_.worldFrame;
@@ -230,8 +232,7 @@ void SimulationNode::publishSurface(const ros::Time& stamp) {
 }
 
 void SimulationNode::publishMarker(const ros::Time& stamp) {
-  Eigen::Matrix3Xd positions;
-  display_.positions(scene_.system.state.x, positions);
+  const Eigen::Matrix3Xd& positions = displayPositions_;
   visualization_msgs::Marker m;
   m.header.stamp = stamp;
   m.header.frame_id = params_.worldFrame;

@@ -62,6 +62,7 @@ class SimulationNode {
   tt::Scene scene_;
   tt::State initialState_;
   tt::DisplaySurface display_;
+  Eigen::Matrix3Xd displayPositions_;  // of the current state, filled when a message is due
   std::unique_ptr<tt::TissueContact> contact_;
   std::vector<tt::ToolShape> toolShapes_;
   bool haveRobot_ = false;
