@@ -310,6 +310,12 @@ def problem_section(problem, runs, facts, image):
                       f"({sum(1 for r in front if (r['model'], r['integrator']) == pair)} of "
                       f"{len(front)} front points)."]
         lines.append("")
+    stopped = [r for r in runs if r["stable"] and "time limit" in r["note"]]
+    if stopped:
+        lines.append("Stopped at the per-run wall-time limit (no error measured): " +
+                     ", ".join(f"{r['model']} + {r['integrator']} {run_label(r)}" for r in stopped) +
+                     ".")
+        lines.append("")
     if unstable:
         lines.append("Unstable runs (non-finite state, blow-up or integrator failure): " +
                      ", ".join(f"{k} {v}" for k, v in sorted(unstable.items())) +
@@ -404,10 +410,14 @@ def main():
     for r in runs:
         by_problem[r["problem"]].append(r)
 
-    now = datetime.datetime.now().astimezone()
+    # The date of the run: when the benchmark wrote its CSV.
+    now = datetime.datetime.fromtimestamp(os.path.getmtime(work_path)).astimezone()
     lines = ["# Benchmark report", "",
              f"Produced by `{args.command}` on {now:%Y-%m-%d %H:%M %Z}"
-             + (f" in {args.elapsed / 60:.1f} min" if finite(args.elapsed) else "") + ".",
+             + (f" in {args.elapsed / 60:.1f} min of wall time" if finite(args.elapsed) else "")
+             + f"; the {len(runs)} work-precision runs took {sum(r['cpu'] for r in runs) / 60:.1f} "
+             f"min of CPU time and {sum(r['wall'] for r in runs) / 60:.1f} min of wall time "
+             "(references and set-up not included).",
              f"Machine: {machine_text()}. It is a shared 2-core machine: other builds and "
              "benchmarks were running at the same time, so wall times are noisy; the plots use "
              "the process CPU time of each run (one thread), measured in the same process and "
