@@ -21,16 +21,20 @@ TT_PACKAGES=(
   python3-diagnostic-msgs python3-std-srvs
 )
 
+# The benchmark report's plots (scripts/bench, and the report check of scripts/test).
+TT_BENCH_PACKAGES=(python3-matplotlib)
+
 tt_say() { printf '[tissue_trainer] %s\n' "$*"; }
 
-tt_install_deps() {
+# Installs the given Debian packages that are missing (apt-get, through sudo when not root).
+tt_install_packages() {
   local missing=()
-  for pkg in "${TT_PACKAGES[@]}"; do
+  for pkg in "$@"; do
     dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" ||
       missing+=("$pkg")
   done
   if [ ${#missing[@]} -eq 0 ]; then
-    tt_say "all ${#TT_PACKAGES[@]} Debian packages present"
+    tt_say "all $# Debian packages present"
     return
   fi
   local sudo=()
@@ -41,6 +45,9 @@ tt_install_deps() {
     "${missing[@]}" >/dev/null
   tt_say "packages installed"
 }
+
+tt_install_deps() { tt_install_packages "${TT_PACKAGES[@]}"; }
+tt_install_bench_deps() { tt_install_packages "${TT_BENCH_PACKAGES[@]}"; }
 
 # ROS tools write into HOME unless told otherwise; keep ROS networking on loopback.
 tt_ros_env() {

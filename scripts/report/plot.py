@@ -1,0 +1,461 @@
+#!/usr/bin/python3
+"""Draws the benchmark report from the CSV files of bench_work_precision and bench_scaling.
+
+  plot.py DIR [--elapsed SECONDS] [--command TEXT]
+
+Reads DIR/work_precision.csv, work_precision_facts.csv, scaling.csv and scaling_fits.csv;
+writes one log-log error-vs-time PNG per problem (Pareto front highlighted), the mesh
+convergence and scaling plots, and DIR/README.md naming each problem's Pareto front and its
+best pair, with the machine and the date.
+"""
+import argparse
+import csv
+import datetime
+import math
+import os
+import platform
+import subprocess
+import sys
+from collections import defaultdict
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+WORK_COLUMNS = ["problem", "model", "integrator", "parameter", "error", "cpu_seconds",
+                "wall_seconds", "steps", "rejected_steps", "newton_iterations",
+                "linear_iterations", "stable"]
+
+PROBLEMS = {
+    "cantilever_static": (
+        "1. Cantilever, small deflection (static)",
+        "Beam 0.1 x 0.01 x 0.01 m (2 x 2 cells across, 20 along, 480 tets), E = 100 kPa, "
+        "nu = 0.3, 1000 kg/m^3, clamped at x = 0, under a body load of 1 % of gravity, so the "
+        "Euler-Bernoulli tip deflection is 1.5 % of the length. The core has no quasi-static "
+        "solver, so every integrator runs the damped dynamics from rest to steady state "
+        "(mass-proportional damping, critical for the first mode, 2 s = 20 / omega_1); the "
+        "implicit methods with long steps are pseudo-time continuation. Error: relative tip "
+        "deflection against Euler-Bernoulli; discrete error: against the static solution of the "
+        "same mesh and model (Newton with a sparse Cholesky solve). Every converged run "
+        "lands on the mesh's own deflection, which the coarse mesh puts far from "
+        "Euler-Bernoulli (locking, see 1b): the error has that floor, the discrete error "
+        "compares the integrators."),
+    "cantilever_vibration": (
+        "2. Cantilever, free vibration",
+        "The same beam, undamped, released from its lowest bending mode (0.1 mm at the tip) "
+        "and run for 1.5 periods. Frequency from the first and third zero crossings of the tip "
+        "displacement (cubic Hermite interpolation between samples, 64 per period). Error: "
+        "against the Euler-Bernoulli first frequency; discrete error: against the mesh's own "
+        "lowest bending frequency (dense eigen-decomposition at rest). The coarse mesh is "
+        "too stiff in bending (linear tets lock, see 1b), and backward Euler's numerical "
+        "lowering of the frequency partly cancels that: its error against the analytic value "
+        "can be smaller than that of an exact integration of the same mesh. Compare "
+        "integrators by the discrete error."),
+    "beam_large_deflection": (
+        "3a. Large deformation: the beam falling under gravity",
+        "The same soft beam under full gravity (linear theory would give a tip deflection of "
+        "1.5 beam lengths), mass-proportional damping 5 /s, 0.5 s from rest. Error: largest "
+        "node distance over the 0.01 s samples against edge_length (StVK) by Radau IIA at a "
+        "very tight tolerance, relative to the largest displacement of that reference. "
+        "Discrete error: against a reference of the same model (the linear model and the "
+        "printed Eq 5 sign get their own; the StVK models share one)."),
+    "spindle_pull": (
+        "3b. Large deformation: the spindle muscle pulled by one node",
+        "The spindle muscle at the training-scene resolution (187 nodes, 480 tets, fibres along "
+        "the spindle, E_L 150 kPa, E_T 20 kPa, nu 0.4, 1060 kg/m^3, tendon ends fixed, damping "
+        "10 /s); a belly node is pulled 1 cm radially over 0.1 s and back over 0.1 s. Errors as "
+        "in 3a."),
+    "patch": (
+        "4. Patch test",
+        "A jittered 4 x 4 x 4-cell box (4 cm, 384 tets, transversely isotropic), every boundary "
+        "node driven to an affine map x = A X (up to 8 % strain, ramped in over 0.05 s), the "
+        "interior damped to rest. Error: largest node distance to the affine field relative to "
+        "the largest boundary displacement (the exact discrete solution is the affine field)."),
+}
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def number(text):
+    try:
+        return float(text)
+    except ValueError:
+        return float("nan")
+
+
+def finite(x):
+    return not (math.isnan(x) or math.isinf(x))
+
+
+def check_columns(rows, path):
+    if not rows:
+        sys.exit(f"plot.py: {path}: no rows")
+    missing = [c for c in WORK_COLUMNS if c not in rows[0]]
+    if missing:
+        sys.exit(f"plot.py: {path}: missing columns {', '.join(missing)}")
+
+
+def pareto_front(runs, key):
+    """Runs not beaten in both CPU time and error by another run, fastest first."""
+    points = sorted((r for r in runs if finite(r[key])), key=lambda r: (r["cpu"], r[key]))
+    front, best = [], float("inf")
+    for r in points:
+        if r[key] < best:
+            front.append(r)
+            best = r[key]
+    return front
+
+
+def best_pair(front, key):
+    """The (model, integrator) with the most runs on the front; ties: the lower error."""
+    counts = defaultdict(list)
+    for r in front:
+        counts[(r["model"], r["integrator"])].append(r[key])
+    return max(counts.items(), key=lambda kv: (len(kv[1]), -min(kv[1])))[0] if counts else None
+
+
+def load_runs(rows):
+    runs = []
+    for row in rows:
+        runs.append({
+            "problem": row["problem"], "model": row["model"], "integrator": row["integrator"],
+            "parameter": number(row["parameter"]), "parameter_name": row.get("parameter_name", ""),
+            "error": number(row["error"]), "discrete": number(row.get("discrete_error", "nan")),
+            "cpu": number(row["cpu_seconds"]), "wall": number(row["wall_seconds"]),
+            "steps": int(row["steps"]), "rejected": int(row["rejected_steps"]),
+            "stable": row["stable"] == "1", "note": row.get("note", ""),
+            "tets": int(number(row.get("tets", "0")) if finite(number(row.get("tets", "0"))) else 0),
+        })
+    return runs
+
+
+COLOURS = {"newtonian": "tab:blue", "symplectic_euler": "tab:cyan", "explicit_euler": "tab:gray",
+           "backward_euler": "tab:orange", "backward_euler_newton": "tab:red",
+           "radau_iia": "tab:green", "static_newton": "tab:purple"}
+MARKERS = {"edge_length": "o", "edge_length_literal": "s", "stvk_displacement": "^",
+           "stvk_displacement_paper_literal": "v", "tensor_mass": "D"}
+FLOOR = 1e-16  # exact results are drawn here on the log axis
+
+
+def draw_panel(ax, runs, key, title):
+    groups = defaultdict(list)
+    for r in runs:
+        if finite(r[key]):
+            groups[(r["model"], r["integrator"])].append(r)
+    for (model, integrator), group in sorted(groups.items()):
+        group.sort(key=lambda r: r["cpu"])
+        ax.plot([r["cpu"] for r in group], [max(r[key], FLOOR) for r in group],
+                marker=MARKERS.get(model, "o"), color=COLOURS.get(integrator, "black"),
+                linewidth=0.8, markersize=4, alpha=0.8)
+    front = pareto_front(runs, key)
+    if front:
+        ax.step([r["cpu"] for r in front], [max(r[key], FLOOR) for r in front], where="post",
+                color="black", linestyle="--", linewidth=1.2)
+        ax.scatter([r["cpu"] for r in front], [max(r[key], FLOOR) for r in front],
+                   s=70, facecolors="none", edgecolors="black", zorder=5)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("CPU time (s, one thread)")
+    ax.set_ylabel("relative error")
+    ax.set_title(title, fontsize=10)
+    ax.grid(True, which="major", alpha=0.3)
+
+
+def legend_handles(runs):
+    from matplotlib.lines import Line2D
+    integrators = sorted({r["integrator"] for r in runs})
+    models = sorted({r["model"] for r in runs})
+    handles = [Line2D([], [], color=COLOURS.get(i, "black"), label=i) for i in integrators]
+    handles += [Line2D([], [], marker=MARKERS.get(m, "o"), color="black", linestyle="", label=m)
+                for m in models]
+    handles.append(Line2D([], [], color="black", linestyle="--", marker="o",
+                          markerfacecolor="none", label="Pareto front"))
+    return handles
+
+
+def plot_problem(problem, runs, out_dir):
+    fig, axes = plt.subplots(1, 2, figsize=(13, 5.5))
+    stable = [r for r in runs if r["stable"]]
+    draw_panel(axes[0], stable, "error", "error as defined by the problem")
+    draw_panel(axes[1], stable, "discrete", "discrete error (same mesh and model, exact)")
+    fig.suptitle(PROBLEMS.get(problem, (problem,))[0])
+    fig.legend(handles=legend_handles(runs), loc="lower center", ncol=6, fontsize=8)
+    fig.tight_layout(rect=(0, 0.1, 1, 0.95))
+    path = os.path.join(out_dir, f"{problem}.png")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return os.path.basename(path)
+
+
+def log_slope(xs, ys):
+    lx, ly = [math.log(x) for x in xs], [math.log(y) for y in ys]
+    n = len(lx)
+    mx, my = sum(lx) / n, sum(ly) / n
+    sxx = sum((x - mx) ** 2 for x in lx)
+    return sum((x - mx) * (y - my) for x, y in zip(lx, ly)) / sxx if sxx > 0 else float("nan")
+
+
+def plot_mesh_convergence(runs, out_dir):
+    fig, ax = plt.subplots(figsize=(7, 5))
+    slopes = {}
+    by_model = defaultdict(list)
+    for r in runs:
+        if finite(r["error"]):
+            by_model[r["model"]].append(r)
+    for model, group in sorted(by_model.items()):
+        group.sort(key=lambda r: r["parameter"])
+        h = [0.01 / r["parameter"] for r in group]
+        e = [r["error"] for r in group]
+        slopes[model] = log_slope(h[-3:], e[-3:]) if len(h) >= 3 else log_slope(h, e)
+        ax.plot(h, e, marker=MARKERS.get(model, "o"), label=f"{model} (slope {slopes[model]:.2f})")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("cell size across the beam (m)")
+    ax.set_ylabel("tip deflection error vs Euler-Bernoulli")
+    ax.set_title("1. Cantilever: mesh convergence (static Newton)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out_dir, "cantilever_static_mesh.png"), dpi=110)
+    plt.close(fig)
+    return slopes
+
+
+def plot_scaling(samples, fits, out_dir):
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    groups = defaultdict(list)
+    for s in samples:
+        groups[(s["quantity"], s["model"])].append(s)
+    styles = {"force_evaluation": "-", "explicit_step": "--", "implicit_step": ":"}
+    for (quantity, model), group in sorted(groups.items()):
+        group.sort(key=lambda s: int(s["tets"]))
+        slope = fits.get((quantity, model), float("nan"))
+        ax.plot([int(s["tets"]) for s in group], [number(s["wall_seconds"]) for s in group],
+                linestyle=styles.get(quantity, "-"), marker=MARKERS.get(model, "o"),
+                label=f"{quantity}, {model} (slope {slope:.2f})")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("tets")
+    ax.set_ylabel("seconds (median, one thread)")
+    ax.set_title("Time per force evaluation, explicit step and implicit step")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out_dir, "scaling.png"), dpi=110)
+    plt.close(fig)
+
+
+def machine_text():
+    model = "unknown CPU"
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    model = line.split(":", 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    cores = subprocess.run(["nproc"], capture_output=True, text=True).stdout.strip() or "?"
+    memory = ""
+    try:
+        with open("/proc/meminfo") as f:
+            kb = int(f.readline().split()[1])
+            memory = f", {kb / 2**20:.0f} GiB memory"
+    except (OSError, ValueError, IndexError):
+        pass
+    return f"{model}, {cores} cores{memory}, {platform.system()} {platform.release()} {platform.machine()}"
+
+
+def fmt(x, digits=3):
+    if not finite(x):
+        return "n/a"
+    if x == 0:
+        return "0"
+    return f"{x:.{digits}g}"
+
+
+def run_label(r):
+    unit = " s" if r["parameter_name"] == "h" else ""
+    return f"{r['parameter_name']} = {fmt(r['parameter'])}{unit}"
+
+
+def problem_section(problem, runs, facts, image):
+    title, text = PROBLEMS.get(problem, (problem, ""))
+    lines = [f"## {title}", "", text, ""]
+    if facts:
+        lines += ["| quantity | value | unit | meaning |", "|---|---|---|---|"]
+        lines += [f"| {f['quantity']} | {fmt(number(f['value']), 6)} | {f['unit']} | {f['meaning']} |"
+                  for f in facts]
+        lines.append("")
+    lines += [f"![{problem}]({image})", ""]
+    stable = [r for r in runs if r["stable"]]
+    unstable = defaultdict(int)
+    for r in runs:
+        if not r["stable"]:
+            unstable[r["integrator"]] += 1
+    for key, label in (("error", "error"), ("discrete", "discrete error")):
+        front = pareto_front(stable, key)
+        pair = best_pair(front, key)
+        lines += [f"Pareto front ({label}, CPU time):", "",
+                  "| model | integrator | parameter | error | discrete error | CPU s | steps |",
+                  "|---|---|---|---|---|---|---|"]
+        lines += [f"| {r['model']} | {r['integrator']} | {run_label(r)} | {fmt(r['error'])} | "
+                  f"{fmt(r['discrete'])} | {fmt(r['cpu'])} | {r['steps']} |" for r in front]
+        if pair:
+            lines += ["", f"Best pair ({label}): **{pair[0]} + {pair[1]}** "
+                      f"({sum(1 for r in front if (r['model'], r['integrator']) == pair)} of "
+                      f"{len(front)} front points)."]
+        lines.append("")
+    stopped = [r for r in runs if r["stable"] and "time limit" in r["note"]]
+    if stopped:
+        lines.append("Stopped at the per-run wall-time limit (no error measured): " +
+                     ", ".join(f"{r['model']} + {r['integrator']} {run_label(r)}" for r in stopped) +
+                     ".")
+        lines.append("")
+    if unstable:
+        lines.append("Unstable runs (non-finite state, blow-up or integrator failure): " +
+                     ", ".join(f"{k} {v}" for k, v in sorted(unstable.items())) +
+                     f" of {len(runs)} runs.")
+        lines.append("")
+    return lines
+
+
+def summary_row(problem, runs):
+    stable = [r for r in runs if r["stable"]]
+    front = pareto_front(stable, "error")
+    pair = best_pair(front, "error")
+    discrete_pair = best_pair(pareto_front(stable, "discrete"), "discrete")
+    fastest = None
+    if front:
+        least = min(r["error"] for r in front)
+        fastest = min((r for r in front if r["error"] <= 2 * least), key=lambda r: r["cpu"])
+    cells = [PROBLEMS.get(problem, (problem,))[0], " + ".join(pair) if pair else "n/a",
+             f"{fastest['model']} + {fastest['integrator']} {run_label(fastest)}: error "
+             f"{fmt(fastest['error'])} in {fmt(fastest['cpu'])} s" if fastest else "n/a",
+             " + ".join(discrete_pair) if discrete_pair else "n/a"]
+    return "| " + " | ".join(cells) + " |"
+
+
+def mesh_section(mesh_runs, out_dir):
+    slopes = plot_mesh_convergence(mesh_runs, out_dir)
+    cells = sorted({r["parameter"] for r in mesh_runs})
+    lines = ["## 1b. Cantilever: mesh convergence", "",
+             "The static problem of section 1 solved exactly (Newton with a sparse Cholesky "
+             "solve, no time integration) on meshes of 1 to N cells across (10 x as many "
+             "along). Linear tets lock in bending, so the error falls slowly; the slope "
+             "(error against cell size) is fitted over the three finest meshes.", "",
+             "![mesh convergence](cantilever_static_mesh.png)", "",
+             "| model | " + " | ".join(f"{int(c)} across" for c in cells) + " | slope |",
+             "|---|" + "---|" * (len(cells) + 1)]
+    by_model = defaultdict(dict)
+    tets = {}
+    for r in mesh_runs:
+        by_model[r["model"]][r["parameter"]] = r["error"]
+        tets[int(r["parameter"])] = r["tets"]
+    for model, errors in sorted(by_model.items()):
+        lines.append(f"| {model} | " + " | ".join(fmt(errors.get(c, float("nan"))) for c in cells) +
+                     f" | {fmt(slopes.get(model, float('nan')))} |")
+    lines += ["", "Tets: " + ", ".join(f"{c} across {t}" for c, t in sorted(tets.items())) + ".", ""]
+    return lines
+
+
+def scaling_section(d):
+    samples = read_csv(os.path.join(d, "scaling.csv"))
+    fits = {(f["quantity"], f["model"]): number(f["slope"])
+            for f in read_csv(os.path.join(d, "scaling_fits.csv"))}
+    plot_scaling(samples, fits, d)
+    sizes = sorted({int(s["tets"]) for s in samples})
+    lines = ["## Scaling", "",
+             "Box grids of 6 tets per cell (bottom fixed, gravity, transversely isotropic "
+             "tissue), one thread, median of repeats: one force evaluation of each model, "
+             "one Newtonian explicit step and one linearised backward Euler step "
+             "(h = 10 ms, Jacobi-PCG to 1e-6) of edge_length fast. Slope: least-squares fit "
+             "of log time against log tets.", "", "![scaling](scaling.png)", "",
+             "| quantity | model | " + " | ".join(f"{t} tets" for t in sizes) + " | slope |",
+             "|---|---|" + "---|" * (len(sizes) + 1)]
+    groups = defaultdict(dict)
+    for s in samples:
+        groups[(s["quantity"], s["model"])][int(s["tets"])] = number(s["wall_seconds"])
+    for (quantity, model), times in sorted(groups.items()):
+        lines.append(f"| {quantity} | {model} | " +
+                     " | ".join(f"{fmt(1e3 * times[t])} ms" for t in sizes if t in times) +
+                     f" | {fmt(fits.get((quantity, model), float('nan')))} |")
+    lines.append("")
+    return lines
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("dir")
+    parser.add_argument("--elapsed", type=float, default=float("nan"))
+    parser.add_argument("--command", default="scripts/bench")
+    args = parser.parse_args()
+    d = args.dir
+
+    work_path = os.path.join(d, "work_precision.csv")
+    rows = read_csv(work_path)
+    check_columns(rows, work_path)
+    runs = load_runs(rows)
+    facts = defaultdict(list)
+    facts_path = os.path.join(d, "work_precision_facts.csv")
+    if os.path.exists(facts_path):
+        for f in read_csv(facts_path):
+            facts[f["problem"]].append(f)
+
+    by_problem = defaultdict(list)
+    for r in runs:
+        by_problem[r["problem"]].append(r)
+
+    # The date of the run: when the benchmark wrote its CSV.
+    now = datetime.datetime.fromtimestamp(os.path.getmtime(work_path)).astimezone()
+    lines = ["# Benchmark report", "",
+             f"Produced by `{args.command}` on {now:%Y-%m-%d %H:%M %Z}"
+             + (f" in {args.elapsed / 60:.1f} min of wall time" if finite(args.elapsed) else "")
+             + f"; the {len(runs)} work-precision runs took {sum(r['cpu'] for r in runs) / 60:.1f} "
+             f"min of CPU time and {sum(r['wall'] for r in runs) / 60:.1f} min of wall time "
+             "(references and set-up not included).",
+             f"Machine: {machine_text()}. It is a shared 2-core machine: other builds and "
+             "benchmarks were running at the same time, so wall times are noisy; the plots use "
+             "the process CPU time of each run (one thread), measured in the same process and "
+             "the same run as its error. Each run is timed once.", "",
+             "Files: `work_precision.csv` (one row per run: " + ", ".join(WORK_COLUMNS) +
+             ", then parameter_name, discrete_error, tets, note), `work_precision_facts.csv` "
+             "(analytic values, references and their accuracy), `scaling.csv`, "
+             "`scaling_fits.csv`.", "",
+             "Force models: every one the factory offers (`edge_length` fast, "
+             "`edge_length_literal` Eq 31, `stvk_displacement` Eq 13, "
+             "`stvk_displacement_paper_literal` with the printed Eq 5 sign, `tensor_mass` "
+             "linear). Integrators: `newtonian` (seed 000 Eq 11), `symplectic_euler`, "
+             "`explicit_euler` (seed 001, forward), at 1.5, 0.9, 0.5, 0.25 and 0.125 of the "
+             "stability limit 2 / omega_max at rest; `backward_euler` (linearised, one Newton "
+             "step) and `backward_euler_newton` (up to 8 Newton iterations) over a step sweep; "
+             "`radau_iia` (analytical Jacobian) at relative tolerances 1e-2 .. 1e-7. "
+             "Pareto front: the runs no other run beats in both CPU time and error. Best pair: "
+             "the model + integrator with the most runs on the front.", ""]
+
+    summary = ["| problem | best pair (error) | fastest front run within 2x of the least error "
+               "| best pair (discrete error) |", "|---|---|---|---|"]
+    sections = []
+    ordered = [p for p in PROBLEMS if p in by_problem] + sorted(
+        p for p in by_problem if p not in PROBLEMS and p != "cantilever_static_mesh")
+    for problem in ordered:
+        image = plot_problem(problem, by_problem[problem], d)
+        sections += problem_section(problem, by_problem[problem], facts.get(problem, []), image)
+        summary.append(summary_row(problem, by_problem[problem]))
+    lines += ["## Summary", ""] + summary + [""] + sections
+    if by_problem.get("cantilever_static_mesh"):
+        lines += mesh_section(by_problem["cantilever_static_mesh"], d)
+    if os.path.exists(os.path.join(d, "scaling.csv")):
+        lines += scaling_section(d)
+
+    with open(os.path.join(d, "README.md"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print(f"plot.py: wrote {d}/README.md and {len(by_problem)} problem plots")
+
+
+if __name__ == "__main__":
+    main()

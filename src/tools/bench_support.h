@@ -1,0 +1,94 @@
+#pragma once
+// Shared by the benchmarks that write CSV (bench_work_precision, bench_scaling): the process
+// CPU clock and the wall clock, medians, the elastic model names the factory offers, and the
+// natural frequencies of a system at rest.
+#include <time.h>
+
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "tissue_trainer/core/scene/factories.h"
+#include "tissue_trainer/core/system.h"
+
+namespace tt {
+namespace bench {
+
+// CPU time of the whole process (all threads), s.
+inline double cpuSeconds() {
+  timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+inline double wallSeconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+inline double median(std::vector<double> values) {
+  if (values.empty()) return std::nan("");
+  const size_t mid = values.size() / 2;
+  std::nth_element(values.begin(), values.begin() + mid, values.end());
+  return values[mid];
+}
+
+// The names makeElasticModel knows ("edge_length, edge_length_literal, ...").
+inline std::vector<std::string> elasticModelNames() {
+  std::vector<std::string> names;
+  std::string list = kElasticModelNames;
+  size_t start = 0;
+  while (start < list.size()) {
+    size_t end = list.find(',', start);
+    if (end == std::string::npos) end = list.size();
+    std::string name = list.substr(start, end - start);
+    name.erase(0, name.find_first_not_of(' '));
+    if (!name.empty()) names.push_back(name);
+    start = end + 1;
+  }
+  return names;
+}
+
+// -K at x with identity rows and columns for the constrained DOFs, column-major for the
+// sparse solvers.
+inline Eigen::SparseMatrix<double> negativeStiffness(const System& s, const Eigen::VectorXd& x) {
+  SparseMatrix K;
+  s.assembleStiffness(x, K);
+  K *= -1.0;
+  s.constrainMatrix(K);
+  return Eigen::SparseMatrix<double>(K);
+}
+
+// Natural frequencies and mode shapes at rest: -K phi = omega^2 M phi on the free DOFs
+// (dense, for the small meshes of the work-precision problems).
+struct RestModes {
+  Eigen::VectorXd omega;   // rad/s, ascending
+  Eigen::MatrixXd shapes;  // one column per mode, 3n, M-normalised, zero on constrained DOFs
+};
+
+inline RestModes restModes(const System& s) {
+  std::vector<int> free;
+  for (int dof = 0; dof < s.numDofs(); ++dof)
+    if (!s.isConstrained[dof]) free.push_back(dof);
+  const Eigen::MatrixXd K = Eigen::MatrixXd(negativeStiffness(s, s.mesh.rest.reshaped()));
+  const int n = static_cast<int>(free.size());
+  Eigen::MatrixXd A(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      A(i, j) = K(free[i], free[j]) / std::sqrt(s.mass[free[i]] * s.mass[free[j]]);
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(A);
+  RestModes modes;
+  modes.omega = eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt();
+  modes.shapes = Eigen::MatrixXd::Zero(s.numDofs(), n);
+  for (int i = 0; i < n; ++i)
+    modes.shapes.row(free[i]) = eigen.eigenvectors().row(i) / std::sqrt(s.mass[free[i]]);
+  return modes;
+}
+
+}  // namespace bench
+}  // namespace tt

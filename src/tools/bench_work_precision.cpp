@@ -1,0 +1,354 @@
+// Work-precision benchmark: every elastic force model the factory offers x every integrator x
+// a sweep of step sizes (explicit and backward Euler) or tolerances (Radau IIA), on
+//   1. cantilever_static      small deflection under a body load, damped to steady state;
+//                             error against the Euler-Bernoulli tip deflection
+//      cantilever_static_mesh mesh convergence of the same (static Newton, no integrator)
+//   2. cantilever_vibration   free vibration in the first bending mode; error of the first
+//                             natural frequency against Euler-Bernoulli
+//   3. beam_large_deflection  the soft beam falling under gravity, and
+//      spindle_pull           the spindle muscle pulled by one node; error against Radau IIA
+//                             at a very tight tolerance
+//   4. patch                  affine boundary motion; error against the affine field
+// Each run's error and CPU / wall time are measured in this process (one thread). --quick: two
+// models (edge_length, tensor_mass), one step or tolerance per integrator, looser references.
+// Writes DIR/work_precision.csv (one row per run) and DIR/work_precision_facts.csv (the
+// analytic values, references and their accuracy).
+//   bench_work_precision [--quick] [--out DIR] [--problems a,b] [--models a,b] [--time-limit S]
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bench_support.h"
+#include "tissue_trainer/core/integrate/backward_euler.h"
+#include "tissue_trainer/core/integrate/explicit_euler.h"
+#include "tissue_trainer/core/integrate/newtonian.h"
+#include "tissue_trainer/core/parallel.h"
+#include "work_precision_problems.h"
+
+namespace {
+
+using namespace tt;
+using namespace tt::work_precision;
+
+const char* const kHeader =
+    "problem,model,integrator,parameter,error,cpu_seconds,wall_seconds,steps,rejected_steps,"
+    "newton_iterations,linear_iterations,stable,parameter_name,discrete_error,tets,note";
+
+struct Options {
+  bool quick = false;
+  std::string out = "docs/report";
+  std::vector<std::string> problems, models;  // empty: all
+  double timeLimit = 30.0;                    // s of wall time per run
+};
+
+struct IntegratorSpec {
+  std::string integrator, parameterName;
+  double parameter = 0.0;  // the step actually taken (s) or the relative tolerance
+  double frame = 0.0;      // s per advance() call
+  std::function<std::unique_ptr<Integrator>()> make;
+};
+
+struct RunResult {
+  Errors errors;
+  double cpu = 0.0, wall = 0.0;
+  long steps = 0, rejected = 0, newton = 0, linear = 0;
+  bool stable = true;
+  int tets = 0;
+};
+
+// --- the sweeps ------------------------------------------------------------------------------
+
+// Explicit methods: fractions of the stability limit 2 / omega_max, as equal substeps of the
+// sample interval.
+std::vector<IntegratorSpec> explicitSweep(const Problem& p, bool quick) {
+  const std::vector<double> fractions =
+      quick ? std::vector<double>{0.5} : std::vector<double>{1.5, 0.9, 0.5, 0.25, 0.125};
+  std::vector<IntegratorSpec> specs;
+  for (const char* name : {"newtonian", "symplectic_euler", "explicit_euler"})
+    for (double fraction : fractions) {
+      const double frame = p.sampleInterval;
+      const double h = frame / std::ceil(frame / (fraction * p.stableStep) * (1 - 1e-12));
+      const std::string integrator = name;
+      auto make = [integrator, h]() -> std::unique_ptr<Integrator> {
+        if (integrator == "newtonian") return std::make_unique<NewtonianIntegrator>(NewtonianParams{h});
+        return std::make_unique<ExplicitEulerIntegrator>(
+            ExplicitEulerParams{h, integrator == "symplectic_euler"});
+      };
+      specs.push_back({integrator, "h", h, frame, make});
+    }
+  return specs;
+}
+
+// Backward Euler, linearised (the seed's) and with full Newton: steps longer than the sample
+// interval are one step per frame, shorter ones equal substeps of it.
+std::vector<IntegratorSpec> backwardEulerSweep(const Problem& p, bool quick) {
+  std::vector<double> steps = p.implicitSteps;
+  if (quick) steps.resize(std::min<size_t>(2, steps.size()));
+  std::vector<IntegratorSpec> specs;
+  for (int newton : {1, 8})
+    for (double step : steps) {
+      const double frame = std::max(step, p.sampleInterval);
+      BackwardEulerParams params;
+      params.substeps = static_cast<int>(std::lround(frame / step));
+      params.newtonIterations = newton;
+      params.linearMaxIterations = 2000;
+      const double h = frame / params.substeps;
+      specs.push_back({newton == 1 ? "backward_euler" : "backward_euler_newton", "h", h, frame,
+                       [params] { return std::make_unique<BackwardEulerIntegrator>(params); }});
+    }
+  return specs;
+}
+
+std::vector<IntegratorSpec> radauSweep(const Problem& p, bool quick) {
+  const std::vector<double> tolerances =
+      quick ? std::vector<double>{1e-3} : std::vector<double>{1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7};
+  std::vector<IntegratorSpec> specs;
+  for (double tol : tolerances) {
+    const RadauOptions options = radauOptions(p, tol);
+    specs.push_back({"radau_iia", "rtol", tol, p.sampleInterval,
+                     [options] { return std::make_unique<RadauIIA>(options); }});
+  }
+  return specs;
+}
+
+std::vector<IntegratorSpec> allIntegrators(const Problem& p, bool quick) {
+  std::vector<IntegratorSpec> specs = explicitSweep(p, quick);
+  for (auto& s : backwardEulerSweep(p, quick)) specs.push_back(s);
+  for (auto& s : radauSweep(p, quick)) specs.push_back(s);
+  return specs;
+}
+
+// --- one run -----------------------------------------------------------------------------------
+
+std::string blowUp(const System& s, double bodySize) {
+  if (!s.state.x.allFinite() || !s.state.v.allFinite()) return "non-finite state";
+  const double moved = (s.state.x - s.mesh.rest.reshaped()).lpNorm<Eigen::Infinity>();
+  if (moved > 10.0 * bodySize) return "blow-up: a node moved more than 10 body sizes";
+  return "";
+}
+
+void record(Trajectory& t, const State& s) {
+  t.t.push_back(s.t);
+  t.x.push_back(s.x);
+  t.v.push_back(s.v);
+}
+
+void addReport(RunResult& r, const StepReport& step) {
+  r.steps += step.substeps;
+  r.rejected += step.rejected;
+  r.newton += step.newtonIterations;
+  r.linear += step.linearIterations;
+}
+
+RunResult runOnce(const Problem& p, const std::string& model, const IntegratorSpec& spec,
+                  double timeLimit) {
+  auto system = p.build(model);
+  auto integrator = spec.make();
+  RunResult r;
+  r.tets = system->mesh.numTets();
+  Trajectory trajectory;
+  record(trajectory, system->state);
+  const int frames = static_cast<int>(std::lround(p.duration / spec.frame));
+  const double cpu0 = bench::cpuSeconds(), wall0 = bench::wallSeconds();
+  for (int f = 0; f < frames && r.stable; ++f) {
+    const StepReport step = integrator->advance(*system, spec.frame);
+    addReport(r, step);
+    const std::string problem = step.ok ? blowUp(*system, p.bodySize) : step.failure;
+    if (!problem.empty()) {
+      r.stable = false;
+      r.errors.note = problem;
+    }
+    record(trajectory, system->state);
+    if (bench::wallSeconds() - wall0 > timeLimit && f + 1 < frames) {
+      r.errors.note = "stopped at the time limit (t = " + std::to_string(system->state.t) + " s)";
+      break;
+    }
+  }
+  r.cpu = bench::cpuSeconds() - cpu0;
+  r.wall = bench::wallSeconds() - wall0;
+  if (r.stable && r.errors.note.empty()) r.errors = p.evaluate(model, trajectory);
+  return r;
+}
+
+// --- output ------------------------------------------------------------------------------------
+
+std::string csvText(std::string s) {
+  std::replace(s.begin(), s.end(), ',', ';');
+  std::replace(s.begin(), s.end(), '\n', ' ');
+  return s;
+}
+
+void writeRow(FILE* csv, const std::string& problem, const std::string& model,
+              const std::string& integrator, const std::string& parameterName, double parameter,
+              const RunResult& r) {
+  std::fprintf(csv, "%s,%s,%s,%.6g,%.6g,%.6g,%.6g,%ld,%ld,%ld,%ld,%d,%s,%.6g,%d,%s\n",
+               problem.c_str(), model.c_str(), integrator.c_str(), parameter, r.errors.error,
+               r.cpu, r.wall, r.steps, r.rejected, r.newton, r.linear, r.stable ? 1 : 0,
+               parameterName.c_str(), r.errors.discrete, r.tets, csvText(r.errors.note).c_str());
+  std::fflush(csv);
+}
+
+void progress(int done, int total, const std::string& what, const RunResult& r) {
+  std::printf("progress %d/%d %s: error %.3g, cpu %.3g s%s%s\n", done, total, what.c_str(),
+              r.errors.error, r.cpu, r.stable ? "" : ", unstable: ",
+              r.stable ? "" : r.errors.note.c_str());
+}
+
+// --- cantilever mesh convergence (static Newton with a sparse Cholesky solve) ------------------
+
+struct MeshRun {
+  int cellsAcross;
+  std::string model;
+};
+
+RunResult meshConvergenceRun(const MeshRun& run) {
+  Beam beam;
+  beam.cellsAcross = run.cellsAcross;
+  const double g = 0.0981;
+  auto s = beamSystem(beam, run.model, g, 0.0);
+  RunResult r;
+  r.tets = s->mesh.numTets();
+  Eigen::VectorXd x = s->mesh.rest.reshaped();
+  const double cpu0 = bench::cpuSeconds(), wall0 = bench::wallSeconds();
+  r.newton = r.linear = staticEquilibrium(*s, x, 1e-14);
+  r.cpu = bench::cpuSeconds() - cpu0;
+  r.wall = bench::wallSeconds() - wall0;
+  r.steps = 1;
+  const double tip = -meanOf(x, s->mesh.rest, tipNodes(s->mesh, beam.length)).z();
+  r.errors.error = relative(tip, beam.tipDeflection(g));
+  r.errors.note = "tip deflection " + std::to_string(tip) + " m";
+  return r;
+}
+
+// --- main --------------------------------------------------------------------------------------
+
+std::vector<std::string> splitList(const std::string& s) {
+  std::vector<std::string> items;
+  std::stringstream in(s);
+  for (std::string item; std::getline(in, item, ',');)
+    if (!item.empty()) items.push_back(item);
+  return items;
+}
+
+bool selected(const std::vector<std::string>& chosen, const std::string& name) {
+  return chosen.empty() || std::find(chosen.begin(), chosen.end(), name) != chosen.end();
+}
+
+Options parseOptions(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool hasValue = i + 1 < argc;
+    if (arg == "--quick") o.quick = true;
+    else if (arg == "--out" && hasValue) o.out = argv[++i];
+    else if (arg == "--problems" && hasValue) o.problems = splitList(argv[++i]);
+    else if (arg == "--models" && hasValue) o.models = splitList(argv[++i]);
+    else if (arg == "--time-limit" && hasValue) o.timeLimit = std::atof(argv[++i]);
+    else {
+      std::fprintf(stderr, "usage: bench_work_precision [--quick] [--out DIR] [--problems a,b] "
+                           "[--models a,b] [--time-limit S]\n");
+      std::exit(2);
+    }
+  }
+  if (o.quick && o.timeLimit == 30.0) o.timeLimit = 3.0;
+  if (o.quick && o.models.empty()) o.models = {"edge_length", "tensor_mass"};
+  return o;
+}
+
+std::vector<std::unique_ptr<Problem>> makeProblems(const Options& o) {
+  std::vector<std::unique_ptr<Problem>> all;
+  all.push_back(std::make_unique<CantileverStatic>());
+  all.push_back(std::make_unique<CantileverVibration>());
+  auto beam = std::make_unique<BeamLargeDeflection>();
+  auto spindle = std::make_unique<SpindlePull>();
+  if (o.quick) beam->referenceTolerance = spindle->referenceTolerance = 1e-6;
+  all.push_back(std::move(beam));
+  all.push_back(std::move(spindle));
+  all.push_back(std::make_unique<PatchTest>());
+  std::vector<std::unique_ptr<Problem>> chosen;
+  for (auto& p : all)
+    if (selected(o.problems, p->name)) chosen.push_back(std::move(p));
+  return chosen;
+}
+
+void writeFacts(const std::string& path, const std::vector<std::unique_ptr<Problem>>& problems) {
+  FILE* f = std::fopen(path.c_str(), "w");
+  std::fprintf(f, "problem,quantity,value,unit,meaning\n");
+  for (const auto& p : problems)
+    for (const Fact& fact : p->facts)
+      std::fprintf(f, "%s,%s,%.9g,%s,%s\n", p->name.c_str(), fact.quantity.c_str(), fact.value,
+                   fact.unit.c_str(), csvText(fact.meaning).c_str());
+  std::fclose(f);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
+  const Options options = parseOptions(argc, argv);
+  setThreadCount(1);
+  std::filesystem::create_directories(options.out);
+  std::vector<std::string> models;
+  for (const std::string& m : bench::elasticModelNames())
+    if (selected(options.models, m)) models.push_back(m);
+
+  auto problems = makeProblems(options);
+  for (auto& p : problems) {
+    const double wall0 = bench::wallSeconds();
+    p->prepare(models);
+    std::printf("prepared %s in %.1f s\n", p->name.c_str(), bench::wallSeconds() - wall0);
+  }
+  std::vector<MeshRun> meshRuns;
+  if (selected(options.problems, "cantilever_static_mesh"))
+    for (int cells : options.quick ? std::vector<int>{1, 2} : std::vector<int>{1, 2, 3, 4, 6, 8})
+      for (const std::string& m : models) meshRuns.push_back({cells, m});
+
+  struct Task {
+    const Problem* problem;
+    std::string model;
+    IntegratorSpec spec;
+  };
+  std::vector<Task> tasks;
+  for (const auto& p : problems)
+    for (const std::string& m : models)
+      for (const IntegratorSpec& spec : allIntegrators(*p, options.quick))
+        tasks.push_back({p.get(), m, spec});
+
+  const std::string csvPath = options.out + "/work_precision.csv";
+  FILE* csv = std::fopen(csvPath.c_str(), "w");
+  if (!csv) {
+    std::fprintf(stderr, "bench_work_precision: cannot write %s\n", csvPath.c_str());
+    return 1;
+  }
+  std::fprintf(csv, "%s\n", kHeader);
+  const int total = static_cast<int>(tasks.size() + meshRuns.size());
+  int done = 0;
+  for (const Task& task : tasks) {
+    const RunResult r = runOnce(*task.problem, task.model, task.spec, options.timeLimit);
+    writeRow(csv, task.problem->name, task.model, task.spec.integrator, task.spec.parameterName,
+             task.spec.parameter, r);
+    char what[256];
+    std::snprintf(what, sizeof what, "%s %s %s %s=%.3g", task.problem->name.c_str(),
+                  task.model.c_str(), task.spec.integrator.c_str(),
+                  task.spec.parameterName.c_str(), task.spec.parameter);
+    progress(++done, total, what, r);
+  }
+  for (const MeshRun& run : meshRuns) {
+    const RunResult r = meshConvergenceRun(run);
+    writeRow(csv, "cantilever_static_mesh", run.model, "static_newton", "cells_across",
+             run.cellsAcross, r);
+    progress(++done, total,
+             "cantilever_static_mesh " + run.model + " cells_across=" + std::to_string(run.cellsAcross), r);
+  }
+  std::fclose(csv);
+  writeFacts(options.out + "/work_precision_facts.csv", problems);
+  std::printf("wrote %s (%d rows) and work_precision_facts.csv\n", csvPath.c_str(), total);
+  return 0;
+}
