@@ -1,0 +1,70 @@
+// bench_bullet_peer (Bullet's deformable bodies beside our models) runs the static cantilever
+// with --quick and writes bullet_peer.csv with the columns of work_precision.csv, Bullet's rows
+// for both of its models and the rows of our pair. Files, columns and sanity only, never
+// timings. Only where the build passes the executable's path in.
+#if defined(TT_BENCH_BULLET_PEER_PATH)
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace tt {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> splitFields(const std::string& line) {
+  std::vector<std::string> fields;
+  std::stringstream in(line);
+  for (std::string field; std::getline(in, field, ',');) fields.push_back(field);
+  if (!line.empty() && line.back() == ',') fields.push_back("");
+  return fields;
+}
+
+TEST(BulletPeer, QuickStaticRunWritesBulletRowsBesideOurPair) {
+  const fs::path dir = fs::temp_directory_path() / "tt_bullet_peer_quick";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string command = std::string(TT_BENCH_BULLET_PEER_PATH) +
+                              " --quick --problems cantilever_static --out " + dir.string() +
+                              " > " + (dir / "run.log").string() + " 2>&1";
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+
+  std::ifstream in(dir / "bullet_peer.csv");
+  std::string header;
+  ASSERT_TRUE(std::getline(in, header));
+  EXPECT_EQ(header,
+            "problem,model,integrator,parameter,error,cpu_seconds,wall_seconds,steps,"
+            "rejected_steps,newton_iterations,linear_iterations,stable,parameter_name,"
+            "discrete_error,tets,note");
+  const size_t columns = splitFields(header).size();
+  std::set<std::string> stableBullet;
+  bool pair = false;
+  for (std::string line; std::getline(in, line);) {
+    const std::vector<std::string> row = splitFields(line);
+    ASSERT_EQ(row.size(), columns) << line;
+    EXPECT_EQ(row[0], "cantilever_static");
+    EXPECT_GE(std::stod(row[5]), 0.0);
+    if (row[2] == "backward_euler") pair = true;
+    if (row[2] == "bullet_backward_euler" && row[12] == "h" && row[11] == "1") {
+      const double error = std::stod(row[4]), discrete = std::stod(row[13]);
+      EXPECT_TRUE(std::isfinite(error)) << line;
+      // The damped beam bends: against our own static solution of the mesh within 10 %.
+      EXPECT_LT(discrete, 0.1) << line;
+      stableBullet.insert(row[1]);
+    }
+  }
+  EXPECT_TRUE(pair);
+  EXPECT_EQ(stableBullet, (std::set<std::string>{"bullet_linear_elasticity", "bullet_neohookean"}));
+}
+
+}  // namespace
+}  // namespace tt
+#endif
