@@ -78,9 +78,10 @@ class WrenchRecorder {
     std::lock_guard<std::mutex> l(m_);
     samples_.push_back({w->header.stamp.toSec(), w->header.seq, Eigen::Vector3d(f.x, f.y, f.z)});
   }
-  ros::Subscriber sub_;
   std::mutex m_;
   std::vector<Sample> samples_;
+  // Last, so it is destroyed first: no callback may run on destroyed members.
+  ros::Subscriber sub_;
 };
 
 class StatusListener {
@@ -111,9 +112,9 @@ class StatusListener {
     std::lock_guard<std::mutex> l(m_);
     latest_ = *s;
   }
-  ros::Subscriber sub_;
   std::mutex m_;
   tissue_trainer::HapticStatus latest_;
+  ros::Subscriber sub_;  // last: destroyed first
 };
 
 // The device: a pose on /device/measured_cp every millisecond (absolute deadlines), on a path

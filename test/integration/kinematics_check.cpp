@@ -66,11 +66,12 @@ class Kinematics : public ::testing::Test {
 
   ros::NodeHandle nh_;
   ros::Publisher joints_;
-  ros::Subscriber poseSub_, twistSub_, jawSub_;
   geometry_msgs::PoseStamped pose_;
   geometry_msgs::TwistStamped twist_;
   sensor_msgs::JointState jaw_;
   int sent_ = 0;
+  // Last, so they are destroyed first: no callback may run on destroyed members.
+  ros::Subscriber poseSub_, twistSub_, jawSub_;
 };
 
 // The operator in namespace op: its device topics at >= 950 Hz, each pose on the trocar
