@@ -374,7 +374,9 @@ TEST_F(HapticBridgeTest, BadInputNeverReachesTheOutput) {
   const Eigen::Vector3d f0(1.0, 0.0, 0.0);
   const Eigen::Matrix3d K = 50.0 * Eigen::Matrix3d::Identity();
   sim.run(0.5, 100.0, [&](int, double) { sim.send(c, f0, K); });  // fade in
-  const std::uint64_t malformedBefore = status.after(now()).models_malformed;
+  // The latest status, not the next one: waiting for it would pause the models for up to
+  // 0.1 s, long enough to trip the watchdog and start a fade inside the measured window.
+  const std::uint64_t malformedBefore = status.latest().models_malformed;
 
   int badModels = 0;
   device.nanEvery = 50;
