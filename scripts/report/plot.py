@@ -13,12 +13,11 @@ import csv
 import datetime
 import math
 import os
-import platform
-import subprocess
 import sys
 from collections import defaultdict
 
 import matplotlib
+from machine import machine_text
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -199,6 +198,19 @@ def log_slope(xs, ys):
     return sum((x - mx) * (y - my) for x, y in zip(lx, ly)) / sxx if sxx > 0 else float("nan")
 
 
+def finish_loglog(fig, ax, xlabel, ylabel, title, path, legend_size):
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=legend_size)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
 def plot_mesh_convergence(runs, out_dir):
     fig, ax = plt.subplots(figsize=(7, 5))
     slopes = {}
@@ -212,16 +224,9 @@ def plot_mesh_convergence(runs, out_dir):
         e = [r["error"] for r in group]
         slopes[model] = log_slope(h[-3:], e[-3:]) if len(h) >= 3 else log_slope(h, e)
         ax.plot(h, e, marker=MARKERS.get(model, "o"), label=f"{model} (slope {slopes[model]:.2f})")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("cell size across the beam (m)")
-    ax.set_ylabel("tip deflection error vs Euler-Bernoulli")
-    ax.set_title("1. Cantilever: mesh convergence (static Newton)")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(os.path.join(out_dir, "cantilever_static_mesh.png"), dpi=110)
-    plt.close(fig)
+    finish_loglog(fig, ax, "cell size across the beam (m)", "tip deflection error vs Euler-Bernoulli",
+                  "1. Cantilever: mesh convergence (static Newton)",
+                  os.path.join(out_dir, "cantilever_static_mesh.png"), legend_size=8)
     return slopes
 
 
@@ -237,37 +242,9 @@ def plot_scaling(samples, fits, out_dir):
         ax.plot([int(s["tets"]) for s in group], [number(s["wall_seconds"]) for s in group],
                 linestyle=styles.get(quantity, "-"), marker=MARKERS.get(model, "o"),
                 label=f"{quantity}, {model} (slope {slope:.2f})")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("tets")
-    ax.set_ylabel("seconds (median, one thread)")
-    ax.set_title("Time per force evaluation, explicit step and implicit step")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(os.path.join(out_dir, "scaling.png"), dpi=110)
-    plt.close(fig)
-
-
-def machine_text():
-    model = "unknown CPU"
-    try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    model = line.split(":", 1)[1].strip()
-                    break
-    except OSError:
-        pass
-    cores = subprocess.run(["nproc"], capture_output=True, text=True).stdout.strip() or "?"
-    memory = ""
-    try:
-        with open("/proc/meminfo") as f:
-            kb = int(f.readline().split()[1])
-            memory = f", {kb / 2**20:.0f} GiB memory"
-    except (OSError, ValueError, IndexError):
-        pass
-    return f"{model}, {cores} cores{memory}, {platform.system()} {platform.release()} {platform.machine()}"
+    finish_loglog(fig, ax, "tets", "seconds (median, one thread)",
+                  "Time per force evaluation, explicit step and implicit step",
+                  os.path.join(out_dir, "scaling.png"), legend_size=7)
 
 
 def fmt(x, digits=3):

@@ -2,9 +2,10 @@
 """Markdown tables from the CSV files scripts/bench_training writes (haptic, graph, surface)."""
 import csv
 import os
-import platform
 import sys
 import time
+
+from machine import machine_text
 
 
 def rows(path):
@@ -12,20 +13,6 @@ def rows(path):
         return []
     with open(path, newline="") as f:
         return list(csv.DictReader(f))
-
-
-def machine():
-    cpu = "unknown CPU"
-    try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    cpu = line.split(":", 1)[1].strip()
-                    break
-    except OSError:
-        pass
-    cores = os.cpu_count()
-    return f"{cpu}, {cores} cores, {platform.system()} {platform.release()}"
 
 
 def table(header, body):
@@ -36,7 +23,7 @@ def table(header, body):
 
 def main(folder):
     print("# Speed of the distributed training system\n")
-    print(f"Measured by `scripts/bench_training` on {machine()}, "
+    print(f"Measured by `scripts/bench_training` on {machine_text()}, "
           f"{time.strftime('%Y-%m-%d')}; every node a process of its own on this machine, "
           "real master, TCPROS over loopback.\n")
     haptic = rows(os.path.join(folder, "haptic.csv"))

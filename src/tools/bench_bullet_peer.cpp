@@ -75,6 +75,7 @@
 #include "bench_support.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/parallel.h"
+#include "work_precision_csv.h"
 #include "work_precision_problems.h"
 
 static_assert(sizeof(btScalar) == sizeof(double), "build against Bullet's float64 libraries");
@@ -83,10 +84,6 @@ namespace {
 
 using namespace tt;
 using namespace tt::work_precision;
-
-const char* const kHeader =
-    "problem,model,integrator,parameter,error,cpu_seconds,wall_seconds,steps,rejected_steps,"
-    "newton_iterations,linear_iterations,stable,parameter_name,discrete_error,tets,note";
 
 // --- Bullet ----------------------------------------------------------------------------------
 
@@ -256,14 +253,6 @@ struct Options {
   int bulletNewton = 5;     // Bullet's default Newton passes
 };
 
-struct RunResult {
-  Errors errors;
-  double cpu = 0.0, wall = 0.0;
-  long steps = 0, newton = 0, linear = 0;
-  bool stable = true;
-  int tets = 0;
-};
-
 struct Row {
   std::string problem, model, integrator, parameterName;
   double parameter;
@@ -386,19 +375,8 @@ RunResult runOurs(const Problem& p, const std::string& model, double h, int subs
 
 // --- output ----------------------------------------------------------------------------------
 
-std::string csvText(std::string s) {
-  std::replace(s.begin(), s.end(), ',', ';');
-  std::replace(s.begin(), s.end(), '\n', ' ');
-  return s;
-}
-
 void writeRow(FILE* csv, const Row& row) {
-  const RunResult& r = row.r;
-  std::fprintf(csv, "%s,%s,%s,%.6g,%.6g,%.6g,%.6g,%ld,%d,%ld,%ld,%d,%s,%.6g,%d,%s\n",
-               row.problem.c_str(), row.model.c_str(), row.integrator.c_str(), row.parameter,
-               r.errors.error, r.cpu, r.wall, r.steps, 0, r.newton, r.linear, r.stable ? 1 : 0,
-               row.parameterName.c_str(), r.errors.discrete, r.tets, csvText(r.errors.note).c_str());
-  std::fflush(csv);
+  writeRunRow(csv, row.problem, row.model, row.integrator, row.parameterName, row.parameter, row.r);
 }
 
 std::vector<std::string> splitList(const std::string& s) {
@@ -458,7 +436,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_bullet_peer: cannot write %s\n", csvPath.c_str());
     return 1;
   }
-  std::fprintf(csv, "%s\n", kHeader);
+  std::fprintf(csv, "%s\n", kCsvHeader);
   const std::vector<std::string> bulletModels = {"bullet_linear_elasticity", "bullet_neohookean"};
   std::printf("%-22s %-25s %-18s %10s %10s %9s %10s %9s %8s %8s\n", "problem", "model", "parameter",
               "error", "discrete", "cpu s", "our error", "our cpu s", "err/our", "cpu/our");

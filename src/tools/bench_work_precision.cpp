@@ -30,16 +30,13 @@
 #include "tissue_trainer/core/integrate/explicit_euler.h"
 #include "tissue_trainer/core/integrate/newtonian.h"
 #include "tissue_trainer/core/parallel.h"
+#include "work_precision_csv.h"
 #include "work_precision_problems.h"
 
 namespace {
 
 using namespace tt;
 using namespace tt::work_precision;
-
-const char* const kHeader =
-    "problem,model,integrator,parameter,error,cpu_seconds,wall_seconds,steps,rejected_steps,"
-    "newton_iterations,linear_iterations,stable,parameter_name,discrete_error,tets,note";
 
 struct Options {
   bool quick = false;
@@ -53,14 +50,6 @@ struct IntegratorSpec {
   double parameter = 0.0;  // the step actually taken (s) or the relative tolerance
   double frame = 0.0;      // s per advance() call
   std::function<std::unique_ptr<Integrator>()> make;
-};
-
-struct RunResult {
-  Errors errors;
-  double cpu = 0.0, wall = 0.0;
-  long steps = 0, rejected = 0, newton = 0, linear = 0;
-  bool stable = true;
-  int tets = 0;
 };
 
 // --- the sweeps ------------------------------------------------------------------------------
@@ -178,22 +167,6 @@ RunResult runOnce(const Problem& p, const std::string& model, const IntegratorSp
 }
 
 // --- output ------------------------------------------------------------------------------------
-
-std::string csvText(std::string s) {
-  std::replace(s.begin(), s.end(), ',', ';');
-  std::replace(s.begin(), s.end(), '\n', ' ');
-  return s;
-}
-
-void writeRow(FILE* csv, const std::string& problem, const std::string& model,
-              const std::string& integrator, const std::string& parameterName, double parameter,
-              const RunResult& r) {
-  std::fprintf(csv, "%s,%s,%s,%.6g,%.6g,%.6g,%.6g,%ld,%ld,%ld,%ld,%d,%s,%.6g,%d,%s\n",
-               problem.c_str(), model.c_str(), integrator.c_str(), parameter, r.errors.error,
-               r.cpu, r.wall, r.steps, r.rejected, r.newton, r.linear, r.stable ? 1 : 0,
-               parameterName.c_str(), r.errors.discrete, r.tets, csvText(r.errors.note).c_str());
-  std::fflush(csv);
-}
 
 void progress(int done, int total, const std::string& what, const RunResult& r) {
   std::printf("progress %d/%d %s: error %.3g, cpu %.3g s%s%s\n", done, total, what.c_str(),
@@ -327,12 +300,12 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_work_precision: cannot write %s\n", csvPath.c_str());
     return 1;
   }
-  std::fprintf(csv, "%s\n", kHeader);
+  std::fprintf(csv, "%s\n", kCsvHeader);
   const int total = static_cast<int>(tasks.size() + meshRuns.size());
   int done = 0;
   for (const Task& task : tasks) {
     const RunResult r = runOnce(*task.problem, task.model, task.spec, options.timeLimit);
-    writeRow(csv, task.problem->name, task.model, task.spec.integrator, task.spec.parameterName,
+    writeRunRow(csv, task.problem->name, task.model, task.spec.integrator, task.spec.parameterName,
              task.spec.parameter, r);
     char what[256];
     std::snprintf(what, sizeof what, "%s %s %s %s=%.3g", task.problem->name.c_str(),
@@ -342,7 +315,7 @@ int main(int argc, char** argv) {
   }
   for (const MeshRun& run : meshRuns) {
     const RunResult r = meshConvergenceRun(run);
-    writeRow(csv, "cantilever_static_mesh", run.model, "static_newton", "cells_across",
+    writeRunRow(csv, "cantilever_static_mesh", run.model, "static_newton", "cells_across",
              run.cellsAcross, r);
     progress(++done, total,
              "cantilever_static_mesh " + run.model + " cells_across=" + std::to_string(run.cellsAcross), r);

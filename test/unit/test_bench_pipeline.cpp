@@ -10,9 +10,10 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
+
+#include "csv_test_util.h"
 
 namespace tt {
 namespace {
@@ -24,20 +25,8 @@ fs::path outputDir() {
   return dir && *dir ? fs::path(dir) : fs::temp_directory_path() / "tt_bench_quick";
 }
 
-std::vector<std::string> splitCsv(const std::string& line) {
-  std::vector<std::string> fields;
-  std::stringstream in(line);
-  for (std::string field; std::getline(in, field, ',');) fields.push_back(field);
-  if (!line.empty() && line.back() == ',') fields.push_back("");
-  return fields;
-}
-
-std::vector<std::vector<std::string>> readCsv(const fs::path& path) {
-  std::ifstream in(path);
-  std::vector<std::vector<std::string>> rows;
-  for (std::string line; std::getline(in, line);) rows.push_back(splitCsv(line));
-  return rows;
-}
+using test::readCsv;
+using test::splitCsv;
 
 int run(const std::string& command) {
   const int status = std::system((command + " > " + (outputDir() / "run.log").string() + " 2>&1").c_str());

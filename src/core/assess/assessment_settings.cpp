@@ -24,6 +24,15 @@ void require(bool ok, const char* key, const std::string& expected, double value
 
 }  // namespace
 
+const std::array<AssessmentSettingKey, 6> kAssessmentSettingKeys = {{
+    {"force_threshold", &AssessmentSettings::forceThreshold},
+    {"movement_speed_start", &AssessmentSettings::movementSpeedStart},
+    {"movement_speed_stop", &AssessmentSettings::movementSpeedStop},
+    {"resample_rate", &AssessmentSettings::resampleRate},
+    {"smoothing_time", &AssessmentSettings::smoothingTime},
+    {"max_gap", &AssessmentSettings::maxGap},
+}};
+
 void AssessmentSettings::validate() const {
   auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
   require(positive(forceThreshold), "force_threshold", "a positive force (N)", forceThreshold);
@@ -54,12 +63,8 @@ AssessmentSettings loadAssessmentSettings(const std::string& yamlFile) {
   top.expectMap({"force_threshold", "movement_speed_start", "movement_speed_stop",
                  "resample_rate", "smoothing_time", "max_gap", "output_dir", "summary_rate"});
   AssessmentSettings s;
-  s.forceThreshold = top.number("force_threshold", s.forceThreshold);
-  s.movementSpeedStart = top.number("movement_speed_start", s.movementSpeedStart);
-  s.movementSpeedStop = top.number("movement_speed_stop", s.movementSpeedStop);
-  s.resampleRate = top.number("resample_rate", s.resampleRate);
-  s.smoothingTime = top.number("smoothing_time", s.smoothingTime);
-  s.maxGap = top.number("max_gap", s.maxGap);
+  for (const AssessmentSettingKey& k : kAssessmentSettingKeys)
+    s.*k.value = top.number(k.key, s.*k.value);
   try {
     s.validate();
   } catch (const std::invalid_argument& e) {

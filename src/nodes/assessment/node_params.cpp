@@ -11,12 +11,8 @@ AssessmentNodeParams readAssessmentNodeParams(const ros::NodeHandle& nh) {
   // The ranges of the metric settings are checked once, by the core (validate()).
   AssessmentNodeParams out;
   AssessmentSettings& s = out.settings;
-  s.forceThreshold = p.number("force_threshold", s.forceThreshold);
-  s.movementSpeedStart = p.number("movement_speed_start", s.movementSpeedStart);
-  s.movementSpeedStop = p.number("movement_speed_stop", s.movementSpeedStop);
-  s.resampleRate = p.number("resample_rate", s.resampleRate);
-  s.smoothingTime = p.number("smoothing_time", s.smoothingTime);
-  s.maxGap = p.number("max_gap", s.maxGap);
+  for (const AssessmentSettingKey& k : kAssessmentSettingKeys)
+    s.*k.value = p.number(k.key, s.*k.value);
   try {
     s.validate();
   } catch (const std::invalid_argument& e) {

@@ -1,6 +1,7 @@
 #pragma once
 // Thresholds and filter settings of the training assessment. The same keys are the node's
 // private parameters (config/assessment.yaml) and the YAML file assess_bag --config reads.
+#include <array>
 #include <string>
 
 namespace tt {
@@ -16,6 +17,13 @@ struct AssessmentSettings {
   // Throws std::invalid_argument "KEY: expected ..., got VALUE" for the first bad value.
   void validate() const;
 };
+
+// Every setting with its key, for the readers (the YAML file below, the node's parameters).
+struct AssessmentSettingKey {
+  const char* key;
+  double AssessmentSettings::*value;
+};
+extern const std::array<AssessmentSettingKey, 6> kAssessmentSettingKeys;
 
 // Reads the keys above from a flat YAML map (unknown keys and non-numbers are errors; missing
 // keys keep their defaults) and validates. Throws InputError "FILE: KEY: what was expected".

@@ -1,0 +1,27 @@
+# The command-line tools and benchmarks: one executable per src/tools/*.cpp with a main(),
+# linked with the core; TT_TOOLS lists them. Included by the catkin build (CMakeLists.txt) and
+# by the standalone build (test/standalone, TT_BUILD_TOOLS=ON), after cmake/core.cmake.
+set(TT_TOOLS "")
+file(GLOB TT_TOOL_SOURCES CONFIGURE_DEPENDS "${TT_ROOT}/src/tools/*.cpp")
+foreach(src ${TT_TOOL_SOURCES})
+  get_filename_component(tool ${src} NAME_WE)
+  add_executable(${tool} ${src})
+  target_link_libraries(${tool} tissue_trainer_core)
+  target_compile_options(${tool} PRIVATE -Wall -Wextra)
+  list(APPEND TT_TOOLS ${tool})
+endforeach()
+
+# bench_bullet_peer runs Bullet's deformable bodies beside our models: it links the
+# double-precision Bullet (Debian's libBullet*-float64; FindBullet's BULLET_LIBRARIES are the
+# single-precision ones of the contact library, which this tool does not link).
+if(TARGET bench_bullet_peer)
+  find_library(TT_BULLET64_SOFTBODY BulletSoftBody-float64 REQUIRED)
+  find_library(TT_BULLET64_DYNAMICS BulletDynamics-float64 REQUIRED)
+  find_library(TT_BULLET64_COLLISION BulletCollision-float64 REQUIRED)
+  find_library(TT_BULLET64_MATH LinearMath-float64 REQUIRED)
+  find_path(TT_BULLET64_INCLUDE btBulletDynamicsCommon.h PATH_SUFFIXES bullet REQUIRED)
+  target_include_directories(bench_bullet_peer PRIVATE ${TT_BULLET64_INCLUDE})
+  target_compile_definitions(bench_bullet_peer PRIVATE BT_USE_DOUBLE_PRECISION)
+  target_link_libraries(bench_bullet_peer ${TT_BULLET64_SOFTBODY} ${TT_BULLET64_DYNAMICS}
+    ${TT_BULLET64_COLLISION} ${TT_BULLET64_MATH})
+endif()
