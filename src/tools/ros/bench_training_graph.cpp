@@ -21,7 +21,6 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 #include <map>
 #include <mutex>
 #include <string>
@@ -33,6 +32,7 @@
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/WrenchStamped.h>
 
+#include "periodic_clock.h"
 #include "tissue_trainer/ContactModel.h"
 #include "tissue_trainer/HapticStatus.h"
 #include "tissue_trainer/TissueStatus.h"
@@ -40,11 +40,7 @@
 
 namespace {
 
-double monotonicNow() {
-  timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
+using tt_nodes::monotonicSeconds;
 
 struct Options {
   std::string mode;
@@ -58,8 +54,13 @@ struct Options {
 bool parseOptions(int argc, char** argv, Options& o) {
   if (argc < 2) return false;
   o.mode = argv[1];
-  for (int i = 2; i + 1 < argc; i += 2) {
-    const std::string key = argv[i], value = argv[i + 1];
+  for (int i = 2; i < argc; i += 2) {
+    const std::string key = argv[i];
+    if (i + 1 == argc || std::string(argv[i + 1]).rfind("--", 0) == 0) {
+      std::fprintf(stderr, "bench_training_graph: %s expects a value\n", key.c_str());
+      return false;
+    }
+    const std::string value = argv[i + 1];
     char* end = nullptr;
     const double number = std::strtod(value.c_str(), &end);
     const bool isNumber = end && *end == '\0' && std::isfinite(number) && number > 0.0;
@@ -195,8 +196,8 @@ struct ArrivalLog {
 };
 
 bool waitForSubscribers(const std::vector<ros::Publisher*>& pubs, double timeout) {
-  const double end = monotonicNow() + timeout;
-  while (monotonicNow() < end && ros::ok()) {
+  const double end = monotonicSeconds() + timeout;
+  while (monotonicSeconds() < end && ros::ok()) {
     bool all = true;
     for (ros::Publisher* p : pubs) all = all && p->getNumSubscribers() > 0;
     if (all) return true;
@@ -259,23 +260,17 @@ class HapticProbe {
     geometry_msgs::PoseStamped p;
     p.header.frame_id = "world";
     p.pose.orientation.w = 1.0;
-    timespec next;
-    clock_gettime(CLOCK_MONOTONIC, &next);
+    tt_nodes::PeriodicClock clock(0.001);
     const int ticks = int(std::lround(duration * 1000.0));
     const int ticksPerStep = int(std::lround(kStepPeriod * 1000.0));
     for (int i = 0; i < ticks && ros::ok(); ++i) {
-      next.tv_nsec += 1000000;
-      if (next.tv_nsec >= 1000000000) {
-        next.tv_nsec -= 1000000000;
-        ++next.tv_sec;
-      }
-      clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next, nullptr);
+      clock.waitNext();
       if (i % ticksPerStep == 0) {
         std::lock_guard<std::mutex> l(m_);
         if (measure && waiting_) ++missed_;
         stepped_ = !stepped_;
         waiting_ = measure;
-        sentAt_ = monotonicNow();
+        sentAt_ = monotonicSeconds();
       }
       p.header.stamp = ros::Time::now();
       p.pose.position.x = stepped_ ? kStep : 0.0;
@@ -290,8 +285,8 @@ class HapticProbe {
     m.force.y = 1.0;
     for (int i = 0; i < 3; ++i) m.stiffness[4 * i] = kStiffness;
     ros::WallRate rate(100.0);
-    const double end = monotonicNow() + duration;
-    for (std::uint64_t seq = 1; monotonicNow() < end && ros::ok(); ++seq) {
+    const double end = monotonicSeconds() + duration;
+    for (std::uint64_t seq = 1; monotonicSeconds() < end && ros::ok(); ++seq) {
       m.header.stamp = ros::Time::now();
       m.sequence = seq;
       m.simulation_time = 0.01 * double(seq);
@@ -301,7 +296,7 @@ class HapticProbe {
   }
 
   void onWrench(const geometry_msgs::WrenchStamped::ConstPtr& w) {
-    const double now = monotonicNow();
+    const double now = monotonicSeconds();
     std::lock_guard<std::mutex> l(m_);
     if (!measuring_) return;
     arrivals_.arrived(now);
@@ -337,8 +332,8 @@ class GraphProbe {
   }
 
   int run(const Options& o) {
-    const double deadline = monotonicNow() + 60.0;
-    while (ros::ok() && monotonicNow() < deadline) {  // until the simulation steps
+    const double deadline = monotonicSeconds() + 60.0;
+    while (ros::ok() && monotonicSeconds() < deadline) {  // until the simulation steps
       {
         std::lock_guard<std::mutex> l(m_);
         if (tissueCount_ > 10) break;
@@ -351,9 +346,9 @@ class GraphProbe {
       measuring_ = true;
     }
     bridge_.restart();
-    const double t0 = monotonicNow();
+    const double t0 = monotonicSeconds();
     ros::WallDuration(o.duration).sleep();
-    const double elapsed = monotonicNow() - t0;
+    const double elapsed = monotonicSeconds() - t0;
     std::lock_guard<std::mutex> l(m_);
     measuring_ = false;
     Result r;
@@ -388,12 +383,12 @@ class GraphProbe {
     peakForce_ = std::max(peakForce_, s->contact_force);
   }
   void onContact(const tissue_trainer::ContactModel::ConstPtr&) {
-    const double now = monotonicNow();
+    const double now = monotonicSeconds();
     std::lock_guard<std::mutex> l(m_);
     if (measuring_) contacts_.arrived(now);
   }
   void onWrench(const geometry_msgs::WrenchStamped::ConstPtr&) {
-    const double now = monotonicNow();
+    const double now = monotonicSeconds();
     std::lock_guard<std::mutex> l(m_);
     if (measuring_) wrenches_.arrived(now);
   }
