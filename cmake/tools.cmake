@@ -20,7 +20,7 @@ if(TARGET bench_bullet_peer)
   find_library(TT_BULLET64_COLLISION BulletCollision-float64 REQUIRED)
   find_library(TT_BULLET64_MATH LinearMath-float64 REQUIRED)
   find_path(TT_BULLET64_INCLUDE btBulletDynamicsCommon.h PATH_SUFFIXES bullet REQUIRED)
-  target_include_directories(bench_bullet_peer PRIVATE ${TT_BULLET64_INCLUDE})
+  target_include_directories(bench_bullet_peer SYSTEM PRIVATE ${TT_BULLET64_INCLUDE})
   target_compile_definitions(bench_bullet_peer PRIVATE BT_USE_DOUBLE_PRECISION)
   target_link_libraries(bench_bullet_peer ${TT_BULLET64_SOFTBODY} ${TT_BULLET64_DYNAMICS}
     ${TT_BULLET64_COLLISION} ${TT_BULLET64_MATH})

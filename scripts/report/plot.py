@@ -370,6 +370,7 @@ def main():
     parser.add_argument("dir")
     parser.add_argument("--elapsed", type=float, default=float("nan"))
     parser.add_argument("--command", default="scripts/bench")
+    parser.add_argument("--note", default="", help="what else ran on the machine, for the report")
     args = parser.parse_args()
     d = args.dir
 
@@ -395,10 +396,9 @@ def main():
              + f"; the {len(runs)} work-precision runs took {sum(r['cpu'] for r in runs) / 60:.1f} "
              f"min of CPU time and {sum(r['wall'] for r in runs) / 60:.1f} min of wall time "
              "(references and set-up not included).",
-             f"Machine: {machine_text()}. It is a shared 2-core machine: other builds and "
-             "benchmarks were running at the same time, so wall times are noisy; the plots use "
-             "the process CPU time of each run (one thread), measured in the same process and "
-             "the same run as its error. Each run is timed once.", "",
+             f"Machine: {machine_text()}." + (f" {args.note}" if args.note else "")
+             + " The plots use the process CPU time of each run (one thread), measured in the "
+             "same process and the same run as its error. Each run is timed once.", "",
              "Files: `work_precision.csv` (one row per run: " + ", ".join(WORK_COLUMNS) +
              ", then parameter_name, discrete_error, tets, note), `work_precision_facts.csv` "
              "(analytic values, references and their accuracy), `scaling.csv`, "

@@ -41,7 +41,8 @@ def main(folder):
         print(f"\n{h['latency_samples']} latency samples ({h['steps_missed']} steps not seen "
               f"before the next), {h['bridge_ticks']} ticks, rate {h['bridge_rate_hz']} Hz, "
               f"{h['bridge_overruns']} overruns, SCHED_FIFO {'yes' if h['bridge_realtime'] == '1' else 'no'}, "
-              f"{h['bridge_lock_misses']} input lock misses, {h['bridge_wrenches_dropped']} wrenches dropped.\n")
+              f"{h['bridge_lock_misses']} input lock misses, {h['bridge_wrenches_dropped']} wrenches dropped. "
+              "The bridge's p99 is the largest of the p99s of its 2 s statistics windows.\n")
     graph = rows(os.path.join(folder, "graph.csv"))
     if graph:
         print("## Training graph, liver palpation, scripted operator (100 Hz target)\n")
@@ -60,7 +61,7 @@ def main(folder):
               "its wall time comes from /tissue/status.\n")
     surface = rows(os.path.join(folder, "surface.csv"))
     if surface:
-        print("## Topic transport of /tissue/surface (TissueSurface, 100 Hz, between two processes)\n")
+        print("## Topic transport of a TissueSurface (on /bench/surface, 100 Hz, between two processes)\n")
         body = [[s["vertices"], s["bytes"], s["latency_p50_us"], s["latency_p99_us"],
                  s["latency_max_us"], s["bytes_with_triangles"], s["latency_with_triangles_p50_us"]]
                 for s in surface]

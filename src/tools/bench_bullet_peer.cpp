@@ -266,14 +266,6 @@ struct Frame {
   long steps = 0, newton = 0, linear = 0;
 };
 
-std::string blowUp(const Eigen::VectorXd& x, const Eigen::VectorXd& v, const Eigen::VectorXd& rest,
-                   double bodySize) {
-  if (!x.allFinite() || !v.allFinite()) return "non-finite state";
-  if ((x - rest).lpNorm<Eigen::Infinity>() > 10.0 * bodySize)
-    return "blow-up: a node moved more than 10 body sizes";
-  return "";
-}
-
 // The frame loop shared by both sides: advance(frame) steps one frame and fills x, v.
 RunResult runFrames(const Problem& p, const std::string& evaluateAs, const System& start,
                     double frame, double timeLimit,
@@ -379,37 +371,35 @@ void writeRow(FILE* csv, const Row& row) {
   writeRunRow(csv, row.problem, row.model, row.integrator, row.parameterName, row.parameter, row.r);
 }
 
-std::vector<std::string> splitList(const std::string& s) {
-  std::vector<std::string> items;
-  std::stringstream in(s);
-  for (std::string item; std::getline(in, item, ',');)
-    if (!item.empty()) items.push_back(item);
-  return items;
-}
-
 Options parseOptions(int argc, char** argv) {
   Options o;
+  bool timeLimitGiven = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     const bool hasValue = i + 1 < argc;
     if (arg == "--quick") o.quick = true;
     else if (arg == "--out" && hasValue) o.out = argv[++i];
     else if (arg == "--pair" && hasValue) o.pair = argv[++i];
-    else if (arg == "--problems" && hasValue) o.problems = splitList(argv[++i]);
-    else if (arg == "--time-limit" && hasValue) o.timeLimit = std::atof(argv[++i]);
-    else if (arg == "--bullet-newton" && hasValue) o.bulletNewton = std::atoi(argv[++i]);
+    else if (arg == "--problems" && hasValue) o.problems = bench::splitList(argv[++i]);
+    else if (arg == "--time-limit" && hasValue) {
+      o.timeLimit = bench::positiveNumber("bench_bullet_peer", arg, argv[++i]);
+      timeLimitGiven = true;
+    }
+    else if (arg == "--bullet-newton" && hasValue) o.bulletNewton = static_cast<int>(bench::positiveNumber("bench_bullet_peer", arg, argv[++i]));
     else {
       std::fprintf(stderr, "usage: bench_bullet_peer [--quick] [--out DIR] [--pair MODEL] "
                            "[--problems a,b] [--time-limit S] [--bullet-newton N]\n");
       std::exit(2);
     }
   }
-  if (o.quick && o.timeLimit == 20.0) o.timeLimit = 5.0;
+  if (o.quick && !timeLimitGiven) o.timeLimit = 5.0;
+  const std::vector<std::string> models = bench::elasticModelNames();
+  if (std::find(models.begin(), models.end(), o.pair) == models.end()) {
+    std::fprintf(stderr, "bench_bullet_peer: --pair expects one of %s, got '%s'\n",
+                 kElasticModelNames, o.pair.c_str());
+    std::exit(2);
+  }
   return o;
-}
-
-bool selected(const std::vector<std::string>& chosen, const std::string& name) {
-  return chosen.empty() || std::find(chosen.begin(), chosen.end(), name) != chosen.end();
 }
 
 }  // namespace
@@ -427,7 +417,7 @@ int main(int argc, char** argv) {
   if (o.quick) large->referenceTolerance = 1e-6;
   problems.push_back(std::move(large));
   problems.erase(std::remove_if(problems.begin(), problems.end(),
-                                [&](const auto& p) { return !selected(o.problems, p->name); }),
+                                [&](const auto& p) { return !bench::selected(o.problems, p->name); }),
                  problems.end());
 
   const std::string csvPath = o.out + "/bullet_peer.csv";

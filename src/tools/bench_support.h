@@ -10,6 +10,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -36,6 +39,34 @@ inline double median(std::vector<double> values) {
   const size_t mid = values.size() / 2;
   std::nth_element(values.begin(), values.begin() + mid, values.end());
   return values[mid];
+}
+
+// --- command lines ---------------------------------------------------------------------------
+
+// "a,b,c" -> {a, b, c} (empty items dropped).
+inline std::vector<std::string> splitList(const std::string& s) {
+  std::vector<std::string> items;
+  std::stringstream in(s);
+  for (std::string item; std::getline(in, item, ',');)
+    if (!item.empty()) items.push_back(item);
+  return items;
+}
+
+// True when `chosen` is empty (all) or holds name.
+inline bool selected(const std::vector<std::string>& chosen, const std::string& name) {
+  return chosen.empty() || std::find(chosen.begin(), chosen.end(), name) != chosen.end();
+}
+
+// The value of a command-line option that must be a positive number; exits 2 with one line
+// naming the option otherwise.
+inline double positiveNumber(const char* tool, const std::string& option, const char* text) {
+  char* end = nullptr;
+  const double v = std::strtod(text, &end);
+  if (end == text || *end != '\0' || !std::isfinite(v) || !(v > 0.0)) {
+    std::fprintf(stderr, "%s: %s expects a positive number, got '%s'\n", tool, option.c_str(), text);
+    std::exit(2);
+  }
+  return v;
 }
 
 // The names makeElasticModel knows ("edge_length, edge_length_literal, ...").

@@ -17,7 +17,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -116,13 +115,6 @@ std::vector<IntegratorSpec> allIntegrators(const Problem& p, bool quick) {
 
 // --- one run -----------------------------------------------------------------------------------
 
-std::string blowUp(const System& s, double bodySize) {
-  if (!s.state.x.allFinite() || !s.state.v.allFinite()) return "non-finite state";
-  const double moved = (s.state.x - s.mesh.rest.reshaped()).lpNorm<Eigen::Infinity>();
-  if (moved > 10.0 * bodySize) return "blow-up: a node moved more than 10 body sizes";
-  return "";
-}
-
 void record(Trajectory& t, const State& s) {
   t.t.push_back(s.t);
   t.x.push_back(s.x);
@@ -149,7 +141,9 @@ RunResult runOnce(const Problem& p, const std::string& model, const IntegratorSp
   for (int f = 0; f < frames && r.stable; ++f) {
     const StepReport step = integrator->advance(*system, spec.frame);
     addReport(r, step);
-    const std::string problem = step.ok ? blowUp(*system, p.bodySize) : step.failure;
+    const State& state = system->state;
+    const std::string problem =
+        step.ok ? blowUp(state.x, state.v, system->mesh.rest.reshaped(), p.bodySize) : step.failure;
     if (!problem.empty()) {
       r.stable = false;
       r.errors.note = problem;
@@ -202,35 +196,27 @@ RunResult meshConvergenceRun(const MeshRun& run) {
 
 // --- main --------------------------------------------------------------------------------------
 
-std::vector<std::string> splitList(const std::string& s) {
-  std::vector<std::string> items;
-  std::stringstream in(s);
-  for (std::string item; std::getline(in, item, ',');)
-    if (!item.empty()) items.push_back(item);
-  return items;
-}
-
-bool selected(const std::vector<std::string>& chosen, const std::string& name) {
-  return chosen.empty() || std::find(chosen.begin(), chosen.end(), name) != chosen.end();
-}
-
 Options parseOptions(int argc, char** argv) {
   Options o;
+  bool timeLimitGiven = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     const bool hasValue = i + 1 < argc;
     if (arg == "--quick") o.quick = true;
     else if (arg == "--out" && hasValue) o.out = argv[++i];
-    else if (arg == "--problems" && hasValue) o.problems = splitList(argv[++i]);
-    else if (arg == "--models" && hasValue) o.models = splitList(argv[++i]);
-    else if (arg == "--time-limit" && hasValue) o.timeLimit = std::atof(argv[++i]);
+    else if (arg == "--problems" && hasValue) o.problems = bench::splitList(argv[++i]);
+    else if (arg == "--models" && hasValue) o.models = bench::splitList(argv[++i]);
+    else if (arg == "--time-limit" && hasValue) {
+      o.timeLimit = bench::positiveNumber("bench_work_precision", arg, argv[++i]);
+      timeLimitGiven = true;
+    }
     else {
       std::fprintf(stderr, "usage: bench_work_precision [--quick] [--out DIR] [--problems a,b] "
                            "[--models a,b] [--time-limit S]\n");
       std::exit(2);
     }
   }
-  if (o.quick && o.timeLimit == 30.0) o.timeLimit = 3.0;
+  if (o.quick && !timeLimitGiven) o.timeLimit = 3.0;
   if (o.quick && o.models.empty()) o.models = {"edge_length", "tensor_mass"};
   return o;
 }
@@ -247,7 +233,7 @@ std::vector<std::unique_ptr<Problem>> makeProblems(const Options& o) {
   all.push_back(std::make_unique<PatchTest>());
   std::vector<std::unique_ptr<Problem>> chosen;
   for (auto& p : all)
-    if (selected(o.problems, p->name)) chosen.push_back(std::move(p));
+    if (bench::selected(o.problems, p->name)) chosen.push_back(std::move(p));
   return chosen;
 }
 
@@ -270,7 +256,7 @@ int main(int argc, char** argv) {
   std::filesystem::create_directories(options.out);
   std::vector<std::string> models;
   for (const std::string& m : bench::elasticModelNames())
-    if (selected(options.models, m)) models.push_back(m);
+    if (bench::selected(options.models, m)) models.push_back(m);
 
   auto problems = makeProblems(options);
   for (auto& p : problems) {
@@ -279,7 +265,7 @@ int main(int argc, char** argv) {
     std::printf("prepared %s in %.1f s\n", p->name.c_str(), bench::wallSeconds() - wall0);
   }
   std::vector<MeshRun> meshRuns;
-  if (selected(options.problems, "cantilever_static_mesh"))
+  if (bench::selected(options.problems, "cantilever_static_mesh"))
     for (int cells : options.quick ? std::vector<int>{1, 2} : std::vector<int>{1, 2, 3, 4, 6, 8})
       for (const std::string& m : models) meshRuns.push_back({cells, m});
 

@@ -69,6 +69,16 @@ inline RadauOptions radauOptions(const Problem& p, double tol) {
   return o;
 }
 
+// Why a run counts as unstable ("" when it does not): a non-finite state, or a node that moved
+// more than 10 body sizes from its rest position.
+inline std::string blowUp(const Eigen::VectorXd& x, const Eigen::VectorXd& v,
+                          const Eigen::VectorXd& rest, double bodySize) {
+  if (!x.allFinite() || !v.allFinite()) return "non-finite state";
+  if ((x - rest).lpNorm<Eigen::Infinity>() > 10.0 * bodySize)
+    return "blow-up: a node moved more than 10 body sizes";
+  return "";
+}
+
 // --- the cantilever beam --------------------------------------------------------------------
 
 struct Beam {

@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <set>
 #include <string>
 #include <vector>
@@ -28,8 +27,9 @@ fs::path outputDir() {
 using test::readCsv;
 using test::splitCsv;
 
-int run(const std::string& command) {
-  const int status = std::system((command + " > " + (outputDir() / "run.log").string() + " 2>&1").c_str());
+// Runs command with its output in outputDir()/log.
+int run(const std::string& command, const std::string& log) {
+  const int status = std::system((command + " > " + (outputDir() / log).string() + " 2>&1").c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
@@ -39,9 +39,9 @@ class BenchPipeline : public ::testing::Test {
     fs::remove_all(outputDir());
     fs::create_directories(outputDir());
     workPrecisionExit = run(std::string(TT_BENCH_WORK_PRECISION_PATH) + " --quick --out " +
-                            outputDir().string());
+                            outputDir().string(), "work_precision.log");
     scalingExit = run(std::string(TT_BENCH_SCALING_PATH) + " --quick --out " +
-                      outputDir().string());
+                      outputDir().string(), "scaling.log");
   }
   static int workPrecisionExit, scalingExit;
 };

@@ -264,6 +264,19 @@ TEST(ForceExtrapolator, RestartsAfterStaleModelsInARow) {
   EXPECT_DOUBLE_EQ(fx.force(Vector3d::Zero(), 0.6).z(), 7.0);
   EXPECT_EQ(fx.submit(contact(4, Vector3d::Zero(), Vector3d(0, 0, 8)), 0.7, Vector3d::Zero()), ModelVerdict::kAccepted);
 
+  // With blending, the restarted model fades in from zero (it does not jump from the old one).
+  ExtrapolatorOptions blended;
+  blended.restartAfterStale = 2;
+  ForceExtrapolator fade(blended);
+  fade.submit(contact(50, Vector3d::Zero(), Vector3d(0, 0, 4)), 0.0, Vector3d::Zero());
+  EXPECT_DOUBLE_EQ(fade.force(Vector3d::Zero(), 1.0).z(), 4.0);
+  fade.submit(contact(1, Vector3d::Zero(), Vector3d(0, 0, 2)), 1.0, Vector3d::Zero());
+  EXPECT_EQ(fade.submit(contact(2, Vector3d::Zero(), Vector3d(0, 0, 2)), 1.1, Vector3d::Zero()), ModelVerdict::kAccepted);
+  EXPECT_DOUBLE_EQ(fade.force(Vector3d::Zero(), 1.1).z(), 0.0);
+  EXPECT_GT(fade.force(Vector3d::Zero(), 1.1 + 0.5 * blended.blendTime).z(), 0.0);
+  EXPECT_LT(fade.force(Vector3d::Zero(), 1.1 + 0.5 * blended.blendTime).z(), 2.0);
+  EXPECT_DOUBLE_EQ(fade.force(Vector3d::Zero(), 1.1 + blended.blendTime).z(), 2.0);
+
   o.restartAfterStale = 0;  // never
   ForceExtrapolator never(o);
   never.submit(contact(100, Vector3d::Zero(), Vector3d(0, 0, 1)), 0.0, Vector3d::Zero());

@@ -21,25 +21,18 @@ class ParamReader {
   explicit ParamReader(const ros::NodeHandle& privateNh) : nh_(privateNh) {}
 
   double number(const std::string& name, double fallback, double lo, double hi) const {
+    const std::string expected = "a number in " + range(lo, hi);
     XmlRpc::XmlRpcValue v;
-    if (!nh_.getParam(name, v)) return fallback;
-    double d = 0.0;
-    if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) d = static_cast<double>(v);
-    else if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) d = static_cast<int>(v);
-    else fail(name, "a number in " + range(lo, hi), v);
-    if (!std::isfinite(d) || d < lo || d > hi) fail(name, "a number in " + range(lo, hi), v);
+    double d = fallback;
+    if (read(name, expected, v, d) && (d < lo || d > hi)) fail(name, expected, v);
     return d;
   }
 
   // Any finite number (its range is checked by whoever uses it).
   double number(const std::string& name, double fallback) const {
     XmlRpc::XmlRpcValue v;
-    if (!nh_.getParam(name, v)) return fallback;
-    double d = 0.0;
-    if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) d = static_cast<double>(v);
-    else if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) d = static_cast<int>(v);
-    else fail(name, "a finite number", v);
-    if (!std::isfinite(d)) fail(name, "a finite number", v);
+    double d = fallback;
+    read(name, "a finite number", v, d);
     return d;
   }
 
@@ -93,6 +86,17 @@ class ParamReader {
   }
 
  private:
+  // A finite number into d (true), or false when the parameter is not set (d unchanged).
+  bool read(const std::string& name, const std::string& expected, XmlRpc::XmlRpcValue& v,
+            double& d) const {
+    if (!nh_.getParam(name, v)) return false;
+    if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) d = static_cast<double>(v);
+    else if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) d = static_cast<int>(v);
+    else fail(name, expected, v);
+    if (!std::isfinite(d)) fail(name, expected, v);
+    return true;
+  }
+
   static std::string range(double lo, double hi) {
     std::ostringstream os;
     os << "[" << lo << ", " << hi << "]";

@@ -18,7 +18,7 @@ namespace tt_nodes {
 
 struct ForceSample {
   std::uint64_t tick = 0;
-  double stamp = 0.0;  // ROS time of the tick, s
+  double time = 0.0;  // the tick's monotonic time (s); the publisher makes the ROS stamp
   Eigen::Vector3d force = Eigen::Vector3d::Zero();
 };
 

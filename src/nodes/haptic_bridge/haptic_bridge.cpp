@@ -35,6 +35,13 @@ diagnostic_msgs::KeyValue keyValue(const std::string& key, double value) {
   return kv;
 }
 
+// The ROS time (wall or simulated) at which the monotonic clock read `time`.
+ros::Time stampOf(double time) {
+  const ros::Time now = ros::Time::now();
+  const double t = now.toSec() - (monotonicSeconds() - time);
+  return t > 0.0 ? ros::Time(t) : now;
+}
+
 }  // namespace
 
 HapticBridge::HapticBridge(ros::NodeHandle& nh, ros::NodeHandle& privateNh,
@@ -130,7 +137,7 @@ void HapticBridge::loop() {
   }
   ForceSample zero;  // the last wrench is exactly zero, whatever happened before
   zero.tick = pipeline_.loopStats().totalTicks() + 1;
-  zero.stamp = ros::Time::now().toSec();
+  zero.time = monotonicSeconds();
   forces_.push(zero);
 }
 
@@ -145,7 +152,7 @@ void HapticBridge::publishForces() {
     forces_.wait(0.1);
     while (forces_.pop(sample)) {
       wrench.header.seq = static_cast<std::uint32_t>(sample.tick);
-      wrench.header.stamp.fromSec(sample.stamp);
+      wrench.header.stamp = stampOf(sample.time);
       wrench.wrench.force = toMsg(sample.force);
       servoPub_.publish(wrench);
     }
@@ -167,7 +174,7 @@ void HapticBridge::tick() {
   ForceSample sample;
   sample.force = pipeline_.tick(device.position, now, fresh && device.enabled);
   sample.tick = pipeline_.loopStats().totalTicks();
-  sample.stamp = ros::Time::now().toSec();
+  sample.time = now;
   forces_.push(sample);
 
   if (++ticksSinceSnapshot_ >= snapshotEvery_ && trySnapshot(now, device, fresh))
@@ -205,7 +212,6 @@ bool HapticBridge::trySnapshot(double now, const DeviceInput& device, bool fresh
   o.modelAge = e.modelAge(now);
   o.extrapolationDistance = e.hasModel() ? (device.position - lastX0_).norm() : 0.0;
   o.models = e.counters();
-  o.modelResets = e.counters().restarts;
   o.inputLockMisses = inputLockMisses_;
   o.deviceFresh = fresh;
   o.enabled = device.enabled;
@@ -243,7 +249,7 @@ void HapticBridge::publishStatus() {
   m.models_accepted = o.models.accepted;
   m.models_malformed = o.models.malformed;
   m.models_stale = o.models.staleSequence;
-  m.model_resets = o.modelResets;
+  m.model_resets = o.models.restarts;
   m.models_dropped = o.modelsDropped;
   m.input_lock_misses = o.inputLockMisses;
   m.wrenches_dropped = forces_.dropped();

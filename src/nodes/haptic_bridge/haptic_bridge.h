@@ -60,7 +60,7 @@ class HapticBridge {
     bool hasModel = false;
     double modelAge = 0.0, extrapolationDistance = 0.0;
     tt::ExtrapolatorCounters models;
-    std::uint64_t modelResets = 0, modelsDropped = 0, inputLockMisses = 0;
+    std::uint64_t modelsDropped = 0, inputLockMisses = 0;
     bool deviceFresh = false, enabled = false;
     std::uint64_t deviceNonFinite = 0, deviceStaleTicks = 0;
     double gain = 0.0;

@@ -18,10 +18,8 @@
 #include <ros/ros.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
-#include <map>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -71,7 +69,12 @@ bool parseOptions(int argc, char** argv, Options& o) {
                    key.c_str(), value.c_str());
       return false;
     } else if (key == "--duration") o.duration = number;
-    else if (key == "--vertices") o.vertices = int(number);
+    else if ((key == "--vertices" || key == "--triangles-every") &&
+             (number != std::floor(number) || number > 1e7)) {
+      std::fprintf(stderr, "bench_training_graph: %s expects a whole number in [1, 1e7], got '%s'\n",
+                   key.c_str(), value.c_str());
+      return false;
+    } else if (key == "--vertices") o.vertices = int(number);
     else if (key == "--rate") o.rate = number;
     else if (key == "--triangles-every") o.trianglesEvery = int(number);
     else {
@@ -132,7 +135,8 @@ struct BridgeStatusLog {
   std::mutex m;
   std::vector<double> p50, p99, max, rate;
   bool realtime = false;
-  std::uint64_t overruns0 = 0, overruns = 0, ticks0 = 0, ticks = 0, lockMisses = 0, dropped = 0;
+  std::uint64_t overruns0 = 0, overruns = 0, ticks0 = 0, ticks = 0;
+  std::uint64_t lockMisses0 = 0, lockMisses = 0, dropped0 = 0, dropped = 0;
   bool first = true;
 
   void restart() {
@@ -149,6 +153,8 @@ struct BridgeStatusLog {
     if (first) {
       overruns0 = s->overruns;
       ticks0 = s->ticks;
+      lockMisses0 = s->input_lock_misses;
+      dropped0 = s->wrenches_dropped;
       first = false;
       return;  // its window still holds ticks from before the measurement
     }
@@ -159,8 +165,8 @@ struct BridgeStatusLog {
     realtime = s->realtime;
     overruns = s->overruns - overruns0;
     ticks = s->ticks - ticks0;
-    lockMisses = s->input_lock_misses;
-    dropped = s->wrenches_dropped;
+    lockMisses = s->input_lock_misses - lockMisses0;
+    dropped = s->wrenches_dropped - dropped0;
   }
 
   void addTo(Result& r) {
@@ -308,7 +314,6 @@ class HapticProbe {
   }
 
   ros::Publisher posePub_, modelPub_;
-  ros::Subscriber wrenchSub_, statusSub_;
   BridgeStatusLog status_;
   std::mutex m_;
   bool measuring_ = false, stepped_ = false, waiting_ = false;
@@ -316,6 +321,7 @@ class HapticProbe {
   std::size_t missed_ = 0;
   std::vector<double> latencies_;
   ArrivalLog arrivals_;
+  ros::Subscriber wrenchSub_, statusSub_;  // last: destroyed first
 };
 
 // ---- graph: a running training session seen from outside -----------------------------------
@@ -393,7 +399,6 @@ class GraphProbe {
     if (measuring_) wrenches_.arrived(now);
   }
 
-  ros::Subscriber tissueSub_, contactSub_, wrenchSub_, statusSub_;
   BridgeStatusLog bridge_;
   std::mutex m_;
   bool measuring_ = false;
@@ -401,6 +406,7 @@ class GraphProbe {
   double peakForce_ = 0.0;
   std::vector<double> stepWall_, rtf_;
   ArrivalLog contacts_, wrenches_;
+  ros::Subscriber tissueSub_, contactSub_, wrenchSub_, statusSub_;  // last: destroyed first
 };
 
 // ---- surface transport between two processes -------------------------------------------------
@@ -487,16 +493,16 @@ int main(int argc, char** argv) {
   ros::AsyncSpinner spinner(2);
   spinner.start();
   int rc = 2;
-  // The spinner stops (ros::shutdown) before a probe goes out of scope: no callback may
+  // The spinner's threads are joined before a probe goes out of scope: no callback may
   // reach a destroyed probe.
   if (o.mode == "haptic") {
     HapticProbe probe(nh);
     rc = probe.run(o);
-    ros::shutdown();
+    spinner.stop();
   } else if (o.mode == "graph") {
     GraphProbe probe(nh);
     rc = probe.run(o);
-    ros::shutdown();
+    spinner.stop();
   } else if (o.mode == "surface_source") {
     rc = surfaceSource(nh, o);
   } else if (o.mode == "surface_sink") {

@@ -34,10 +34,6 @@ class HapticPipeline {
   const SafetyFilter& safety() const { return safety_; }
   const LoopStatsWindow& loopStats() const { return stats_; }
 
-  // Forgets every contact model and sequence number (the simulation restarted); the force
-  // fades out through the watchdog until the next model. Counters are kept.
-  void resetModels() { extrapolator_.reset(); }
-
  private:
   ForceExtrapolator extrapolator_;
   SafetyFilter safety_;
