@@ -136,6 +136,26 @@ TEST(StabilityGuard, HalvesExplicitStepsUntilStableAndFollowsASmallStepRun) {
   }
 }
 
+TEST(StabilityGuard, LaterFramesKeepTheShorterStepAndTryALongerOneAfterRelaxAfterFrames) {
+  const ExplicitCase c = explicitCase(true);
+  auto s = stiffBlock(c.rayleigh);
+  StabilityGuardParams p;
+  p.relaxAfter = 3;
+  StabilityGuard guard(std::make_unique<ExplicitEulerIntegrator>(ExplicitEulerParams{kFrame, true}), p);
+  const StepReport first = guard.advance(*s, kFrame);
+  ASSERT_TRUE(first.ok) << first.failure;
+  ASSERT_GT(first.halvings, 0);
+  for (int f = 1; f <= 3; ++f) {  // no rollback, the step that passed
+    const StepReport r = guard.advance(*s, kFrame);
+    EXPECT_EQ(r.halvings, 0) << "frame " << f << ": " << r.guardReason;
+    EXPECT_EQ(r.lastStep, first.lastStep) << "frame " << f;
+  }
+  const StepReport relaxed = guard.advance(*s, kFrame);  // tries twice the step: unstable
+  EXPECT_EQ(relaxed.halvings, 1) << relaxed.guardReason;
+  EXPECT_EQ(relaxed.lastStep, first.lastStep);
+  EXPECT_EQ(guard.stats().recoveries, 2);
+}
+
 // Two tets sharing face (0, 1, 2): tet 0 above it (node 3), tet 1 below (node 4). Nodes 0-3
 // fixed, node 4 driven up through the face within one frame, which inverts tet 1.
 std::unique_ptr<System> pushThrough(bool linearModel) {
