@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "tissue_trainer/core/error.h"
+#include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/mesh/mesh_io.h"
 #include "tissue_trainer/core/mesh/quality.h"
 #include "tissue_trainer/core/scene/factories.h"
@@ -113,7 +114,12 @@ int run(const Arguments& args) {
   std::cout << "scene " << scene.name << ": " << s.numNodes() << " nodes, " << s.mesh.numTets()
             << " tets, " << s.constrainedDofs.size() << " constrained DOFs, models:";
   for (const auto& m : s.models) std::cout << " " << m->name();
-  std::cout << ", integrator: " << scene.integrator->name() << "\n";
+  std::cout << ", integrator: " << scene.integrator->name();
+  if (const auto* guard = dynamic_cast<const tt::StabilityGuard*>(scene.integrator.get()))
+    std::printf(", stability guard: max_halvings=%d energy_growth=%g min_volume_ratio=%g",
+                guard->params().maxHalvings, guard->params().energyGrowth,
+                guard->params().minVolumeRatio);
+  std::cout << "\n";
   const double duration = options.duration >= 0 ? options.duration : scene.duration;
   const int total = static_cast<int>(std::ceil(duration / scene.frameTime - 1e-9));
   const int every = std::max(1, total / 10);
@@ -123,6 +129,9 @@ int run(const Arguments& args) {
                   "max_disp=%.4g m  step=%.3g ms\n",
                   f.frame, total, f.time, f.kineticEnergy, f.elasticEnergy, f.volumeRatio,
                   f.maxDisplacement, 1e3 * f.step.wallSeconds);
+    if (f.step.ok && !f.step.guardReason.empty())
+      std::printf("frame %d: guard recovered with %d halvings from: %s\n", f.frame,
+                  f.step.halvings, f.step.guardReason.c_str());
   };
   const tt::RunSummary summary = tt::runScene(scene, options);
   std::printf("summary frames=%d simulated=%.4f s wall=%.3f s real_time_factor=%.3g "
@@ -130,6 +139,10 @@ int run(const Arguments& args) {
               summary.frames, summary.simulatedTime, summary.wallSeconds,
               summary.simulatedTime / std::max(summary.wallSeconds, 1e-12),
               1e3 * summary.stepWallMedian, 1e3 * summary.stepWallMax);
+  if (summary.guard.frames > 0)
+    std::printf("guard frames=%ld recoveries=%ld halvings=%ld failures=%ld\n",
+                summary.guard.frames, summary.guard.recoveries, summary.guard.halvings,
+                summary.guard.failures);
   if (!summary.files.empty())
     std::cout << "files " << summary.files.size() << " in " << options.outDir << "\n";
   if (!summary.ok) {

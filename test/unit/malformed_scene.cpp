@@ -102,6 +102,16 @@ TEST(MalformedScene, EachErrorNamesFileLineAndKey) {
       {"missing render surface", edited("run:", "render_surface: {file: none.obj}\nrun:"), 21, "not found"},
       {"render surface without file", edited("run:", "render_surface: {outside: clamp}\nrun:"), 21, "missing required key 'file'"},
       {"bad outside policy", edited("run:", "render_surface: {file: none.obj, outside: snap}\nrun:"), 21, "render_surface"},
+      {"unknown guard key", edited("run:", "stability_guard: {max_halving: 3}\nrun:"), 21, "stability_guard.max_halving: unknown key"},
+      {"guard not a map", edited("run:", "stability_guard: on\nrun:"), 21, "stability_guard: expected a map, got 'on'"},
+      {"negative halvings", edited("run:", "stability_guard: {max_halvings: -1}\nrun:"), 21, "stability_guard.max_halvings: expected an integer in [0, 16], got '-1'"},
+      {"too many halvings", edited("run:", "stability_guard: {max_halvings: 17}\nrun:"), 21, "[0, 16], got '17'"},
+      {"fractional halvings", edited("run:", "stability_guard: {max_halvings: 2.5}\nrun:"), 21, "[0, 16], got '2.5'"},
+      {"energy growth of 1", edited("run:", "stability_guard: {energy_growth: 1}\nrun:"), 21, "stability_guard.energy_growth: expected a number > 1, got '1'"},
+      {"energy growth not a number", edited("run:", "stability_guard: {energy_growth: lots}\nrun:"), 21, "stability_guard.energy_growth: expected a finite number"},
+      {"negative energy slack", edited("run:", "stability_guard: {energy_slack: -1e-9}\nrun:"), 21, "stability_guard.energy_slack: expected a non-negative energy (J)"},
+      {"volume ratio of 1", edited("run:", "stability_guard: {min_volume_ratio: 1}\nrun:"), 21, "stability_guard.min_volume_ratio: expected a volume ratio in [0, 1)"},
+      {"guard enabled not a boolean", edited("run:", "stability_guard:\n  enabled: maybe\nrun:"), 22, "stability_guard.enabled: expected true or false"},
   };
   for (const BadScene& c : cases) {
     const std::string path = writeScene("bad.yaml", c.text);

@@ -8,6 +8,7 @@
 
 #include "tissue_trainer/core/error.h"
 #include "tissue_trainer/core/integrate/newtonian.h"
+#include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/model/edge_length.h"
 #include "tissue_trainer/core/scene/scene.h"
@@ -104,12 +105,12 @@ std::string writeScene(const std::string& integrator) {
 
 TEST(ForceThreshold, SceneKey) {
   Scene plain = loadScene(writeScene("  type: newtonian\n  time_step: 0.0001\n"));
-  auto* a = dynamic_cast<NewtonianIntegrator*>(plain.integrator.get());
+  auto* a = dynamic_cast<NewtonianIntegrator*>(&unguarded(*plain.integrator));
   ASSERT_NE(a, nullptr);
   EXPECT_EQ(a->params.forceThreshold, 0.0);
 
   Scene on = loadScene(writeScene("  type: newtonian\n  force_threshold: 0.002\n"));
-  auto* b = dynamic_cast<NewtonianIntegrator*>(on.integrator.get());
+  auto* b = dynamic_cast<NewtonianIntegrator*>(&unguarded(*on.integrator));
   ASSERT_NE(b, nullptr);
   EXPECT_EQ(b->params.forceThreshold, 0.002);
 

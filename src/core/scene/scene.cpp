@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/mesh/mesh_io.h"
 #include "tissue_trainer/core/model/gravity.h"
@@ -172,6 +173,37 @@ ContactSettings readContact(const YamlEntry& spec) {
   c.graspRadius = spec.positive("grasp_radius", c.graspRadius);
   c.graspMaxNodes = spec.integerAtLeast("grasp_max_nodes", 1, c.graspMaxNodes);
   return c;
+}
+
+// An optional number key, or the fallback; `valid` is the accepted range, `expected` says it.
+template <class Valid>
+double checkedNumber(const YamlEntry& spec, const char* key, double fallback, Valid valid,
+                     const char* expected) {
+  if (!spec.has(key)) return fallback;
+  const YamlEntry e = spec[key];
+  const double value = e.number();
+  if (!valid(value)) e.fail(std::string(expected) + ", got '" + e.node().Scalar() + "'");
+  return value;
+}
+
+// stability_guard: {enabled, max_halvings, energy_growth, energy_slack, min_volume_ratio};
+// every key optional (defaults in StabilityGuardParams). Returns false when disabled.
+bool readStabilityGuard(const YamlEntry& spec, StabilityGuardParams& p) {
+  if (spec.node().IsNull()) return true;
+  spec.expectMap({"enabled", "max_halvings", "energy_growth", "energy_slack", "min_volume_ratio"});
+  p.maxHalvings = static_cast<int>(checkedNumber(
+      spec, "max_halvings", p.maxHalvings,
+      [](double v) { return v >= 0 && v <= 16 && v == std::floor(v); },
+      "expected an integer in [0, 16]"));
+  p.energyGrowth = checkedNumber(spec, "energy_growth", p.energyGrowth,
+                                 [](double v) { return v > 1.0; }, "expected a number > 1");
+  p.energySlack = checkedNumber(spec, "energy_slack", p.energySlack,
+                                [](double v) { return v >= 0.0; },
+                                "expected a non-negative energy (J)");
+  p.minVolumeRatio = checkedNumber(spec, "min_volume_ratio", p.minVolumeRatio,
+                                   [](double v) { return v >= 0.0 && v < 1.0; },
+                                   "expected a volume ratio in [0, 1)");
+  return spec.boolean("enabled", true);
 }
 
 // The nodes a selection names: {box: {min, max}}, {plane: {point, normal, tolerance}},
@@ -381,7 +413,8 @@ Scene loadScene(const std::string& path) {
   scene.file = path;
   const YamlEntry top(root, "", &scene.file);
   top.expectMap({"name", "mesh", "materials", "fibres", "force_models", "integrator",
-                 "boundary", "loads", "run", "output", "contact", "render_surface"});
+                 "boundary", "loads", "run", "output", "contact", "render_surface",
+                 "stability_guard"});
   scene.name = top.has("name") ? top["name"].text() : fs::path(path).stem().string();
 
   const fs::path sceneDir = fs::path(path).parent_path();
@@ -410,6 +443,9 @@ Scene loadScene(const std::string& path) {
                             " needs the stiffness of every force model; " + missing +
                             " provides none");
   }
+  StabilityGuardParams guard;
+  if (!top.has("stability_guard") || readStabilityGuard(top["stability_guard"], guard))
+    scene.integrator = std::make_unique<StabilityGuard>(std::move(scene.integrator), guard);
 
   if (top.has("run")) {
     const YamlEntry run = top["run"];

@@ -22,15 +22,16 @@ std::string frameFileName(const std::string& name, int frame) {
 
 void writeCsvHeader(std::ofstream& csv) {
   csv << "frame,time,kinetic_energy,elastic_energy,load_energy,volume_ratio,max_displacement,substeps,"
-         "rejected,newton_iterations,linear_iterations,error_estimate,step_wall_s,ok\n";
+         "rejected,newton_iterations,linear_iterations,error_estimate,step_wall_s,ok,halvings\n";
 }
 
 void writeCsvLine(std::ofstream& csv, const FrameLog& f) {
   char line[512];
-  std::snprintf(line, sizeof line, "%d,%.9g,%.9g,%.9g,%.9g,%.12g,%.9g,%d,%d,%d,%d,%.6g,%.6g,%d\n",
+  std::snprintf(line, sizeof line, "%d,%.9g,%.9g,%.9g,%.9g,%.12g,%.9g,%d,%d,%d,%d,%.6g,%.6g,%d,%d\n",
                 f.frame, f.time, f.kineticEnergy, f.elasticEnergy, f.loadEnergy, f.volumeRatio,
                 f.maxDisplacement, f.step.substeps, f.step.rejected, f.step.newtonIterations,
-                f.step.linearIterations, f.step.errorEstimate, f.step.wallSeconds, f.step.ok);
+                f.step.linearIterations, f.step.errorEstimate, f.step.wallSeconds, f.step.ok,
+                f.step.halvings);
   csv << line;
 }
 
@@ -92,6 +93,7 @@ RunSummary runScene(Scene& scene, const RunOptions& options) {
     const StepReport step = scene.integrator->advance(scene.system, scene.frameTime);
     const FrameLog log = measureFrame(scene.system, frame, step);
     stepWall.push_back(step.wallSeconds);
+    summary.guard.add(step);
     if (csv.is_open()) writeCsvLine(csv, log);
     writeFrame(frame);
     summary.frames = frame;

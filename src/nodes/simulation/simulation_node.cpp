@@ -175,10 +175,25 @@ void SimulationNode::step(const ros::SteadyTimerEvent&) {
 
   const tt::StepReport report = scene_.integrator->advance(system, 1.0 / params_.rate);
   ++step_;
+  guard_.add(report);
   if (!report.ok) {
     ++failures_;
+    ++failingSteps_;
     failure_ = report.failure;
-    ROS_ERROR_THROTTLE(1.0, "simulation step failed (state restored): %s", report.failure.c_str());
+    // One error when the failures start, a reminder every 10 s while they last.
+    if (stable_)
+      ROS_ERROR("simulation step failed (state restored; retrying every step): %s",
+                report.failure.c_str());
+    else
+      ROS_ERROR_THROTTLE(10.0, "simulation still failing (%lu steps): %s",
+                         static_cast<unsigned long>(failingSteps_), report.failure.c_str());
+  } else if (!stable_) {
+    ROS_INFO("simulation stable again after %lu failed steps",
+             static_cast<unsigned long>(failingSteps_));
+    failingSteps_ = 0;
+  } else if (report.halvings > 0) {
+    ROS_WARN_THROTTLE(5.0, "stability guard: %ld steps recovered by halving so far; last: %s",
+                      guard_.recoveries, report.guardReason.c_str());
   }
   stable_ = report.ok;
 
@@ -300,6 +315,12 @@ void SimulationNode::publishStatus(const tt::StepReport& report, double stepWall
   msg.strained_volume = strain.strainedVolume;
   msg.stable = report.ok;
   msg.failure = report.failure;
+  msg.guard_enabled = report.guarded;
+  msg.guard_step_halvings = report.halvings;
+  msg.guard_recoveries = guard_.recoveries;
+  msg.guard_halvings = guard_.halvings;
+  msg.guard_failures = guard_.failures;
+  msg.guard_last_reason = guard_.lastReason;
   statusPub_.publish(msg);
 }
 
@@ -338,6 +359,10 @@ void SimulationNode::publishDiagnostics(const ros::SteadyTimerEvent&) {
   add("steps_behind_schedule", std::to_string(behindCount_));
   add("integrator_failures", std::to_string(failures_));
   add("last_failure", failure_);
+  add("guard_recoveries", std::to_string(guard_.recoveries));
+  add("guard_halvings", std::to_string(guard_.halvings));
+  add("guard_failures", std::to_string(guard_.failures));
+  add("guard_last_reason", guard_.lastReason);
   add("in_contact", lastContact_.inContact ? "true" : "false");
   add("contact_points", std::to_string(lastContact_.points.size()));
   add("grasped_nodes", std::to_string(lastContact_.graspedNodes.size()));
@@ -354,6 +379,7 @@ bool SimulationNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Res
   scene_.system.state = initialState_;
   if (contact_) contact_->clear();
   stable_ = true;
+  failingSteps_ = 0;
   clock_.clear();
   res.success = true;
   res.message = "scene '" + scene_.name + "' reset to its initial state";
@@ -373,6 +399,7 @@ bool SimulationNode::onLoadScene(tissue_trainer::LoadScene::Request& req,
   }
   clock_.clear();
   stable_ = true;
+  failingSteps_ = 0;
   res.success = true;
   res.message = "loaded scene '" + scene_.name + "' (" + std::to_string(scene_.system.numNodes()) +
                 " nodes, " + std::to_string(scene_.system.mesh.numTets()) + " tets)";

@@ -19,6 +19,7 @@
 
 #include "tissue_trainer/LoadScene.h"
 #include "tissue_trainer/core/contact/tissue_contact.h"
+#include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/scene/display_surface.h"
 #include "tissue_trainer/core/scene/scene.h"
 
@@ -90,6 +91,8 @@ class SimulationNode {
   std::deque<std::pair<double, double>> clock_;  // (wall s, simulation s) over the last second
   double realTimeFactor_ = 0.0, lastStepWall_ = 0.0, maxStepWall_ = 0.0;
   std::uint64_t behindCount_ = 0, failures_ = 0;
+  std::uint64_t failingSteps_ = 0;  // in a row, up to the current step
+  tt::GuardStats guard_;  // summed over the steps since the node started
   tt::ContactResult lastContact_;
   double maxStrain_ = 0.0;
 };

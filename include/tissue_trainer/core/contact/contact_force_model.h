@@ -42,6 +42,7 @@ class ContactForceModel : public ForceModel {
                   Eigen::VectorXd& f) const override;
   double energy(const Eigen::VectorXd&) const override { return 0.0; }
   bool hasEnergy() const override { return false; }
+  bool toleratesInversion() const override { return true; }  // no elements
   bool hasStiffness() const override { return true; }
   void addStiffness(const Eigen::VectorXd& x, double scale, const SparsePattern& pattern,
                     SparseMatrix& K) const override;

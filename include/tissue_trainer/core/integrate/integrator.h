@@ -19,6 +19,10 @@ struct StepReport {
   double wallSeconds = 0.0;
   bool ok = true;            // false: the step failed (non-finite state, no convergence)
   std::string failure;       // why, when !ok
+  // Filled by StabilityGuard (stability_guard.h); left as is without one.
+  bool guarded = false;      // the guard checked this frame
+  int halvings = 0;          // times the guard rolled this frame back and halved the step
+  std::string guardReason;   // the last problem the guard found in this frame (recovered or not)
 };
 
 class Integrator {
@@ -28,6 +32,10 @@ class Integrator {
   // Implicit methods need every model's analytic stiffness.
   virtual bool needsStiffness() const { return false; }
   virtual StepReport advance(System& system, double frameTime) = 0;
+  // For the stability guard's retries: integrators that cut a frame into steps of a set
+  // length make those steps `divisor` times shorter (1 restores the set length). The others
+  // take their steps from the frame time, which the guard already cuts, and ignore it.
+  virtual void setStepDivisor(int /*divisor*/) {}
 };
 
 }  // namespace tt

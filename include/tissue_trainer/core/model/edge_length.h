@@ -47,6 +47,9 @@ class EdgeLengthModel : public ForceModel {
                   EdgeLengthPath path = EdgeLengthPath::kFast);
 
   const char* name() const override { return "edge_length"; }
+  // St Venant-Kirchhoff (it depends on the edge lengths, i.e. on F^T F, only): a mirrored
+  // tet has zero energy and force, a flat one no restoring force against the collapse.
+  bool toleratesInversion() const override { return false; }
   double addForce(const Eigen::VectorXd& x, const Eigen::VectorXd& v,
                   Eigen::VectorXd& f) const override;
   double energy(const Eigen::VectorXd& x) const override;

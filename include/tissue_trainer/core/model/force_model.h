@@ -25,6 +25,11 @@ class ForceModel {
   virtual bool hasEnergy() const { return true; }
   // True for body loads such as gravity, whose energy is not elastic (logs report it apart).
   virtual bool isBodyLoad() const { return false; }
+  // True when inverted or flat elements are states the model handles: its energy keeps
+  // rising through them and its force pushes back toward the rest shape (or it has no
+  // elements). False (the default, so a new model is checked until it says otherwise) when
+  // they are not: the stability guard then rejects steps that invert or flatten a tet.
+  virtual bool toleratesInversion() const { return false; }
 
   // K += scale * df/dx at x, into a matrix with the system's pattern.
   virtual bool hasStiffness() const { return false; }

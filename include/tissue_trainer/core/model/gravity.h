@@ -14,6 +14,7 @@ class GravityModel : public ForceModel {
 
   const char* name() const override { return "gravity"; }
   bool isBodyLoad() const override { return true; }
+  bool toleratesInversion() const override { return true; }  // no elements
   double addForce(const Eigen::VectorXd& x, const Eigen::VectorXd& v,
                   Eigen::VectorXd& f) const override;
   double energy(const Eigen::VectorXd& x) const override;

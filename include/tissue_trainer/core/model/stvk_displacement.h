@@ -35,6 +35,8 @@ class StvkDisplacementModel : public ForceModel {
                         AlphaSign sign = AlphaSign::kCorrect);
 
   const char* name() const override { return "stvk_displacement"; }
+  // The same St Venant-Kirchhoff polynomial as edge_length: not for inverted tets.
+  bool toleratesInversion() const override { return false; }
   double addForce(const Eigen::VectorXd& x, const Eigen::VectorXd& v,
                   Eigen::VectorXd& f) const override;
   double energy(const Eigen::VectorXd& x) const override;

@@ -22,6 +22,9 @@ class TensorMassModel : public ForceModel {
   TensorMassModel(const Mesh& mesh, const std::vector<Material>& materials);
 
   const char* name() const override { return "tensor_mass"; }
+  // Linear: the energy 1/2 u^T K u grows through flat and inverted shapes and the force
+  // always points back to rest.
+  bool toleratesInversion() const override { return true; }
   double addForce(const Eigen::VectorXd& x, const Eigen::VectorXd& v,
                   Eigen::VectorXd& f) const override;
   double energy(const Eigen::VectorXd& x) const override;

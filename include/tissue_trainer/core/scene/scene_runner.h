@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/scene/scene.h"
 
 namespace tt {
@@ -34,6 +35,7 @@ struct RunSummary {
   FrameLog last;
   bool ok = true;
   std::string failure;
+  GuardStats guard;                // frames = 0 when the scene runs without the guard
   std::vector<std::string> files;  // written, in order
 };
 

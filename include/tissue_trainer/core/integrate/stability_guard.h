@@ -1,0 +1,131 @@
+#pragma once
+// A runtime stability guard around any integrator. It is an Integrator itself (a decorator),
+// so scenes and nodes use it in place of the one it wraps. Each frame it keeps the state,
+// lets the wrapped integrator advance and checks the result:
+//   finite  every position and velocity is a finite number;
+//   volume  no tet's signed volume fell to minVolumeRatio of its rest volume or below
+//           (inverted or flat); only when a model of the system does not tolerate inversion
+//           (ForceModel::toleratesInversion);
+//   energy  the energy balance below stays within its budget.
+// A frame that fails a check (or that the wrapped integrator reports failed) is rolled back
+// and done again in 2 equal pieces, then in 4, ..., down to 2^maxHalvings pieces, until an
+// attempt passes; integrators with a set step length shorten it by the same factor
+// (Integrator::setStepDivisor), so every halving halves the step. The checks run after every
+// piece and an attempt passes only as a whole: an unstable first step can look harmless and
+// only shows in the steps after it. The following frames start with the step that passed
+// (an instability near equilibrium grows from a tiny seed and would show only frames later);
+// after relaxAfter frames that pass at once the guard tries a step twice as long again. When
+// the last attempt fails too, or the external force is not finite, the frame's initial state
+// is restored and the report says ok = false, which check failed, on which element or DOF and
+// in which time interval.
+//
+// Energy balance from the frame's start t0 to the end t1 of each piece: E = kinetic energy of
+// the free DOFs + the energy of the models that have one (elastic, gravity). W = work done by
+// what has no energy: the external force and the models without energy (contact) on the free
+// DOFs, and the controlled DOFs moving against the other models' forces, each by the
+// trapezoidal rule 1/2 (f(a) + f(b)) . (x(b) - x(a)) over every piece [a, b]. D = work of the
+// damping, -1/2 (P(a) + P(b)) (b - a) with P = sum c v^2. An exact step has E1 - E0 = W + D.
+// The check fails when
+//   E1 - E0 - W - D > (energyGrowth - 1) * max(S0, |W|, |dB|, L h^2) + energySlack
+// with S0 the kinetic + elastic energy at t0, dB the change of the body loads' energy, h the
+// wrapped integrator's last internal step and L = 1/2 sum f^2 / m over the free DOFs of the body
+// loads and the external force (L h^2 is the kinetic energy they give in one step from rest:
+// forward Euler's first step gains it before anything moves). Beyond the work put in, the
+// energy may grow by (energyGrowth - 1) times the energy in play in the frame. An unstable step
+// multiplies the energy by orders of magnitude in a frame; a growth slower than energyGrowth
+// per frame is left to the finite and volume checks.
+//
+// When every check passes at once the wrapped integrator has advanced the frame exactly as it
+// would alone (bit-identical state); the guard only adds its measurements. After a rollback,
+// integrators with history between frames (newtonian) restart from the restored state.
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "tissue_trainer/core/integrate/integrator.h"
+
+namespace tt {
+
+struct StabilityGuardParams {
+  int maxHalvings = 6;           // the last attempt takes 2^maxHalvings pieces
+  double energyGrowth = 10.0;    // > 1, see the energy balance above
+  double energySlack = 1e-9;     // J
+  double minVolumeRatio = 0.01;  // a tet at or below this fraction of its rest volume fails
+  int relaxAfter = 25;           // frames passed at once before the step is doubled again
+};
+
+// What a guard did, summed over frames (StabilityGuard::stats, or add() over the reports).
+struct GuardStats {
+  long frames = 0;         // frames checked
+  long recoveries = 0;     // frames that passed only after rolling back and halving
+  long halvings = 0;       // rollbacks followed by a halving, all frames
+  long failures = 0;       // frames that failed every attempt
+  std::string lastReason;  // the last problem found (recovered or not)
+
+  void add(const StepReport& frame);
+};
+
+class StabilityGuard : public Integrator {
+ public:
+  explicit StabilityGuard(std::unique_ptr<Integrator> inner, StabilityGuardParams params = {});
+
+  const char* name() const override { return inner_->name(); }
+  bool needsStiffness() const override { return inner_->needsStiffness(); }
+  StepReport advance(System& system, double frameTime) override;
+
+  Integrator& inner() { return *inner_; }
+  const StabilityGuardParams& params() const { return params_; }
+  const GuardStats& stats() const { return stats_; }
+
+ private:
+  // What the energy check needs from one instant.
+  struct Balance {
+    double kinetic = 0.0, elastic = 0.0, body = 0.0;  // J
+    double dampingPower = 0.0;          // sum of c v^2 over the free DOFs (W)
+    Eigen::VectorXd loadForce;          // external + models without energy (N, all DOFs)
+    Eigen::VectorXd constrainedForce;   // models with energy, at system.constrainedDofs
+  };
+  // Energy flows since the frame's start (J).
+  struct Flows {
+    double work = 0.0;     // by loads, contact and controlled DOFs
+    double damping = 0.0;  // by the damping (<= 0)
+  };
+
+  void prepare(const System& system);
+  // Where the next frame starts, after this one passed at `depth`.
+  void keepDepth(int depth, bool rolledBack);
+  void startFrame(const System& system);
+  // Advances the frame in 2^depth pieces; empty when every piece passed, else what was found.
+  std::string attempt(System& system, double frameTime, int depth, StepReport& work);
+  std::string check(const System& system, double lastStep);
+  std::string checkFinite(const State& s) const;
+  std::string checkVolumes(const System& system) const;
+  std::string checkEnergy(const System& system, double lastStep);
+  // Adds the flows from the piece's start (pieceT_, pieceX_, pieceStart_) to now (end_).
+  void addFlows(const System& system);
+  void measure(const System& system, Balance& b);
+  void measureLoads(const System& system, Balance& b) const;
+  void measureEnergies(const System& system, Balance& b);
+
+  std::unique_ptr<Integrator> inner_;
+  StabilityGuardParams params_;
+  GuardStats stats_;
+  const System* prepared_ = nullptr;
+  std::vector<double> restVolume_;  // per tet
+  bool checkVolumes_ = false;
+  int startDepth_ = 0;  // the next frame's first attempt takes 2^startDepth_ pieces
+  int calmFrames_ = 0;  // frames passed at once since startDepth_ last changed
+  State frameStart_;
+  State measured_;  // the state end_ belongs to after a frame that passed
+  Balance frameBalance_, pieceStart_, end_;
+  Eigen::VectorXd pieceX_, modelForce_, loadForce_;
+  double pieceT_ = 0.0;
+  Flows flows_;
+  double loadRate_ = 0.0;  // L = 1/2 sum f^2 / m of the body loads and external force (J/s^2)
+};
+
+// The integrator a guard wraps, or `integrator` itself when it is not a guard.
+Integrator& unguarded(Integrator& integrator);
+
+}  // namespace tt

@@ -1,0 +1,281 @@
+#include "tissue_trainer/core/integrate/stability_guard.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+namespace tt {
+namespace {
+
+// Signed volume of tet t at positions x (3n), positive for a well-oriented tet.
+double signedVolume(const Eigen::VectorXd& x, const Tet& t) {
+  const Eigen::Vector3d a = x.segment<3>(3 * t[0]);
+  const Eigen::Vector3d d1 = x.segment<3>(3 * t[1]) - a;
+  const Eigen::Vector3d d2 = x.segment<3>(3 * t[2]) - a;
+  const Eigen::Vector3d d3 = x.segment<3>(3 * t[3]) - a;
+  return d1.dot(d2.cross(d3)) / 6.0;
+}
+
+std::string format(const char* pattern, double a, double b = 0.0, double c = 0.0,
+                   double d = 0.0) {
+  char text[256];
+  std::snprintf(text, sizeof text, pattern, a, b, c, d);
+  return text;
+}
+
+std::string dofName(Eigen::Index dof) {
+  return "DOF " + std::to_string(dof) + " (node " + std::to_string(dof / 3) + " " +
+         "xyz"[dof % 3] + ")";
+}
+
+// The first non-finite entry of v, or -1.
+Eigen::Index firstNonFinite(const Eigen::VectorXd& v) {
+  for (Eigen::Index i = 0; i < v.size(); ++i)
+    if (!std::isfinite(v[i])) return i;
+  return -1;
+}
+
+// Adds what `piece` did to `total`; a rejected piece's steps count as rejected.
+void addWork(StepReport& total, const StepReport& piece, bool accepted) {
+  (accepted ? total.substeps : total.rejected) += piece.substeps;
+  total.rejected += piece.rejected;
+  total.newtonIterations += piece.newtonIterations;
+  total.linearIterations += piece.linearIterations;
+  total.jacobians += piece.jacobians;
+  if (!accepted) return;
+  if (std::isnan(total.errorEstimate) || piece.errorEstimate > total.errorEstimate)
+    total.errorEstimate = piece.errorEstimate;
+  total.lastStep = piece.lastStep;
+}
+
+}  // namespace
+
+void GuardStats::add(const StepReport& frame) {
+  if (!frame.guarded) return;
+  ++frames;
+  halvings += frame.halvings;
+  if (!frame.ok) ++failures;
+  else if (frame.halvings > 0) ++recoveries;
+  if (!frame.guardReason.empty()) lastReason = frame.guardReason;
+}
+
+StabilityGuard::StabilityGuard(std::unique_ptr<Integrator> inner, StabilityGuardParams params)
+    : inner_(std::move(inner)), params_(params) {}
+
+StepReport StabilityGuard::advance(System& system, double frameTime) {
+  const auto clock = std::chrono::steady_clock::now();
+  prepare(system);
+  StepReport report;
+  report.guarded = true;
+  const Eigen::Index badLoad = firstNonFinite(system.externalForce);
+  if (badLoad >= 0) {  // no step can help: fail before touching the state
+    report.guardReason = "non-finite external force at " + dofName(badLoad) +
+                         format(" at t = %.9g s", system.state.t);
+    report.failure = "stability guard: " + report.guardReason + "; state kept";
+    report.ok = false;
+  } else {
+    startFrame(system);
+    for (int depth = startDepth_;; ++depth) {
+      StepReport work;
+      const std::string problem = attempt(system, frameTime, depth, work);
+      addWork(report, work, problem.empty());
+      if (problem.empty()) {
+        keepDepth(depth, report.halvings > 0);
+        measured_ = system.state;  // where end_ was measured
+        break;
+      }
+      system.state = frameStart_;
+      report.guardReason = problem;
+      if (depth >= params_.maxHalvings) {
+        report.failure = "stability guard: " + problem + ", still failing after " +
+                         std::to_string(depth) + " halvings (steps of 1/" +
+                         std::to_string(1 << depth) + "); state restored";
+        report.ok = false;
+        break;
+      }
+      ++report.halvings;
+    }
+    inner_->setStepDivisor(1);
+  }
+  report.wallSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
+  stats_.add(report);
+  return report;
+}
+
+void StabilityGuard::keepDepth(int depth, bool rolledBack) {
+  if (rolledBack) {
+    startDepth_ = depth;
+    calmFrames_ = 0;
+  } else if (startDepth_ > 0 && ++calmFrames_ >= params_.relaxAfter) {
+    --startDepth_;
+    calmFrames_ = 0;
+  }
+}
+
+void StabilityGuard::prepare(const System& system) {
+  const std::vector<Tet>& tets = system.mesh.tets;
+  if (prepared_ != &system || restVolume_.size() != tets.size()) {
+    const Eigen::Map<const Eigen::VectorXd> rest(system.mesh.rest.data(), system.mesh.rest.size());
+    restVolume_.resize(tets.size());
+    for (size_t e = 0; e < tets.size(); ++e) restVolume_[e] = signedVolume(rest, tets[e]);
+    prepared_ = &system;
+  }
+  checkVolumes_ = std::any_of(system.models.begin(), system.models.end(),
+                              [](const auto& m) { return !m->toleratesInversion(); });
+}
+
+void StabilityGuard::startFrame(const System& system) {
+  frameStart_ = system.state;
+  // A frame that starts where the last one ended has its energies measured already (the
+  // models with energy do not change between frames); the loads (contact) may have.
+  const State& s = system.state;
+  if (s.t == measured_.t && s.x.size() == measured_.x.size() && s.x == measured_.x &&
+      s.v == measured_.v) {
+    frameBalance_ = end_;
+    measureLoads(system, frameBalance_);
+  } else {
+    measure(system, frameBalance_);
+  }
+  measured_.t = std::numeric_limits<double>::quiet_NaN();  // end_ is about to change
+  loadForce_ = system.externalForce;
+  for (const auto& model : system.models)
+    if (model->isBodyLoad()) model->addForce(system.state.x, system.state.v, loadForce_);
+  loadRate_ = 0.0;
+  for (Eigen::Index dof = 0; dof < loadForce_.size(); ++dof)
+    if (!system.isConstrained[dof] && system.mass[dof] > 0.0)
+      loadRate_ += 0.5 * loadForce_[dof] * loadForce_[dof] / system.mass[dof];
+}
+
+std::string StabilityGuard::attempt(System& system, double frameTime, int depth,
+                                    StepReport& work) {
+  const int pieces = 1 << depth;
+  inner_->setStepDivisor(pieces);
+  flows_ = {};
+  const double t0 = frameStart_.t;
+  for (int i = 0; i < pieces; ++i) {
+    const double start = system.state.t;
+    const double end = i + 1 == pieces ? t0 + frameTime : t0 + frameTime * (i + 1) / pieces;
+    pieceX_ = system.state.x;
+    pieceT_ = start;
+    if (i == 0) pieceStart_ = frameBalance_;
+    else std::swap(pieceStart_, end_);
+    // One piece takes the frame time itself, so that a frame that passes is bit-identical.
+    const StepReport step = inner_->advance(system, pieces == 1 ? frameTime : end - start);
+    addWork(work, step, true);
+    std::string problem = step.ok ? check(system, step.lastStep) : "integrator failed: " + step.failure;
+    if (!problem.empty())
+      return problem + format(" in t = [%.9g, %.9g] s", start, end);
+  }
+  return {};
+}
+
+std::string StabilityGuard::check(const System& system, double lastStep) {
+  std::string problem = checkFinite(system.state);
+  if (problem.empty() && checkVolumes_) problem = checkVolumes(system);
+  if (problem.empty()) problem = checkEnergy(system, lastStep);
+  return problem;
+}
+
+std::string StabilityGuard::checkFinite(const State& s) const {
+  if (s.x.allFinite() && s.v.allFinite()) return {};
+  const Eigen::Index x = firstNonFinite(s.x);
+  if (x >= 0) return "non-finite position at " + dofName(x);
+  return "non-finite velocity at " + dofName(firstNonFinite(s.v));
+}
+
+std::string StabilityGuard::checkVolumes(const System& system) const {
+  const std::vector<Tet>& tets = system.mesh.tets;
+  int worst = -1, count = 0;
+  double worstRatio = params_.minVolumeRatio;
+  for (size_t e = 0; e < tets.size(); ++e) {
+    if (!(restVolume_[e] > 0.0)) continue;  // degenerate at rest: nothing to compare with
+    const double ratio = signedVolume(system.state.x, tets[e]) / restVolume_[e];
+    if (ratio > params_.minVolumeRatio) continue;
+    ++count;
+    if (worst < 0 || ratio < worstRatio) {
+      worst = static_cast<int>(e);
+      worstRatio = ratio;
+    }
+  }
+  if (worst < 0) return {};
+  return "tet " + std::to_string(worst) +
+         format(" inverted or flat (volume %.3g of rest, limit %.3g; tets at or below it: %.0f)",
+                worstRatio, params_.minVolumeRatio, count);
+}
+
+void StabilityGuard::addFlows(const System& system) {
+  const Eigen::VectorXd& x1 = system.state.x;
+  for (Eigen::Index dof = 0; dof < x1.size(); ++dof)
+    if (!system.isConstrained[dof])
+      flows_.work += 0.5 * (pieceStart_.loadForce[dof] + end_.loadForce[dof]) * (x1[dof] - pieceX_[dof]);
+  if (!system.controlled.empty())
+    for (size_t k = 0; k < system.constrainedDofs.size(); ++k) {
+      const int dof = system.constrainedDofs[k];
+      flows_.work -= 0.5 * (pieceStart_.constrainedForce[k] + end_.constrainedForce[k]) *
+                     (x1[dof] - pieceX_[dof]);
+    }
+  flows_.damping -= 0.5 * (pieceStart_.dampingPower + end_.dampingPower) * (system.state.t - pieceT_);
+}
+
+std::string StabilityGuard::checkEnergy(const System& system, double lastStep) {
+  measure(system, end_);
+  addFlows(system);
+  const Balance& b0 = frameBalance_;
+  const double startEnergy = b0.kinetic + b0.elastic;
+  const double endEnergy = end_.kinetic + end_.elastic;
+  const double excess =
+      endEnergy + end_.body - startEnergy - b0.body - flows_.work - flows_.damping;
+  const double scale = std::max({startEnergy, std::abs(flows_.work),
+                                 std::abs(end_.body - b0.body), loadRate_ * lastStep * lastStep});
+  const double budget = (params_.energyGrowth - 1.0) * scale + params_.energySlack;
+  if (excess <= budget) return {};
+  return format("energy grew by %.3g J more than the work done on the system (budget %.3g J; "
+                "kinetic + elastic %.3g J at the frame's start, %.3g J after)",
+                excess, budget, startEnergy, endEnergy);
+}
+
+void StabilityGuard::measure(const System& system, Balance& b) {
+  measureLoads(system, b);
+  measureEnergies(system, b);
+}
+
+void StabilityGuard::measureLoads(const System& system, Balance& b) const {
+  const State& s = system.state;
+  b.loadForce = system.externalForce;
+  for (const auto& model : system.models)
+    if (!model->hasEnergy()) model->addForce(s.x, s.v, b.loadForce);
+}
+
+void StabilityGuard::measureEnergies(const System& system, Balance& b) {
+  const State& s = system.state;
+  b.kinetic = b.dampingPower = 0.0;
+  for (Eigen::Index dof = 0; dof < s.v.size(); ++dof) {
+    if (system.isConstrained[dof]) continue;
+    b.kinetic += 0.5 * system.mass[dof] * s.v[dof] * s.v[dof];
+    b.dampingPower += system.damping[dof] * s.v[dof] * s.v[dof];
+  }
+  b.elastic = b.body = 0.0;
+  // The controlled DOFs' work needs the models' forces there; without them the energy is enough.
+  const bool controlled = !system.controlled.empty();
+  if (controlled) modelForce_.setZero(s.x.size());
+  for (const auto& model : system.models) {
+    if (!model->hasEnergy()) continue;
+    const double e = controlled ? model->addForce(s.x, s.v, modelForce_) : model->energy(s.x);
+    (model->isBodyLoad() ? b.body : b.elastic) += e;
+  }
+  if (!controlled) return;
+  b.constrainedForce.resize(static_cast<Eigen::Index>(system.constrainedDofs.size()));
+  for (size_t k = 0; k < system.constrainedDofs.size(); ++k)
+    b.constrainedForce[k] = modelForce_[system.constrainedDofs[k]];
+}
+
+Integrator& unguarded(Integrator& integrator) {
+  auto* guard = dynamic_cast<StabilityGuard*>(&integrator);
+  return guard ? guard->inner() : integrator;
+}
+
+}  // namespace tt
