@@ -1,0 +1,431 @@
+// Numerical stability of every integrator x force model on stiff and extreme tissue.
+//
+//   bench_stability_sweep [--quick] [--out DIR]
+//
+// 1. The grid: a 2 cm block (4 x 4 x 4 nodes, 162 tets) clamped at its base, released from a
+//    10 % shear (u_x = 0.1 z), mass damping 1/s, no gravity; Young's modulus 1 kPa .. 1 GPa,
+//    Poisson ratio 0.3 .. 0.4999, step 1e-5 .. 1e-1 s, one step per frame, for
+//    max(50 steps, 5 ms). Each cell runs bare and, when that fails, under the StabilityGuard:
+//      stable     the bare run stays finite, its energy never exceeds 10x the initial energy
+//                 (the exact solution only loses energy), no node moves 10 block sizes;
+//      recovered  the bare run fails, the guarded run passes (the guard's halvings counted);
+//      failed     both fail (the guard ends the run with its message).
+//    -> stability_sweep.csv
+// 2. The explicit limit: for each material the largest step at which symplectic Euler and the
+//    Newtonian scheme stay stable (bisection in log h over 300-step runs), beside the
+//    critical step h_c = L / c of seed 001 Eq 2.150 (L the shortest edge, c the dilatational
+//    wave speed sqrt((lambda + 2 mu) / rho)) and 2 / omega_max of the assembled system.
+//    -> critical_step.csv
+// 3. Extreme cases at E = 10 kPa, nu = 0.45: 80 % compression, a forced inversion, a
+//    180-degree twist, a 20 m/s impact, sliver elements (the block flattened 50:1).
+//    -> extreme_cases.csv
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bench_support.h"
+#include "tissue_trainer/core/integrate/backward_euler.h"
+#include "tissue_trainer/core/integrate/explicit_euler.h"
+#include "tissue_trainer/core/integrate/newtonian.h"
+#include "tissue_trainer/core/integrate/radau_iia.h"
+#include "tissue_trainer/core/integrate/stability_guard.h"
+#include "tissue_trainer/core/mesh/generators.h"
+
+namespace tt {
+namespace {
+
+constexpr double kBlock = 0.02;       // m
+constexpr double kDensity = 1000.0;   // kg/m^3
+constexpr double kDampingRate = 1.0;  // 1/s, mass damping
+constexpr double kBlowUpGrowth = 10.0;
+
+// ---- the block ------------------------------------------------------------------------------
+
+Mesh blockMesh(double heightScale = 1.0) {
+  Mesh mesh = boxGrid(4, 4, 4, Eigen::Vector3d(kBlock, kBlock, kBlock * heightScale),
+                      TetSplit::kSixMirrored);
+  mesh.fillDefaults();
+  for (int n = 0; n < mesh.numNodes(); ++n)
+    if (mesh.rest(2, n) < 1e-12) mesh.nodeTags[n] = kFixedAll;
+  return mesh;
+}
+
+std::unique_ptr<System> blockSystem(const std::string& model, double young, double poisson,
+                                    const Mesh& mesh) {
+  auto s = std::make_unique<System>(mesh, std::vector<Material>{
+                                              Material::isotropic(young, poisson, kDensity)});
+  s->models.push_back(makeElasticModel(model, s->mesh, s->materials));
+  s->damping = kDampingRate * s->mass;
+  s->updateConstraints();
+  return s;
+}
+
+// The 10 % shear the grid runs start from (clamped base unmoved).
+void shear(System& s, double amount) {
+  for (int n = 0; n < s.numNodes(); ++n)
+    s.state.x[3 * n] += amount * s.mesh.rest(2, n);
+}
+
+double totalEnergy(const System& s) {
+  return s.kineticEnergy(s.state.v) + s.potentialEnergy(s.state.x);
+}
+
+int invertedTets(const System& s) {
+  const Eigen::Map<const Eigen::Matrix3Xd> x(s.state.x.data(), 3, s.numNodes());
+  int n = 0;
+  for (const Tet& t : s.mesh.tets) n += tetVolume(x, t) <= 0.0;
+  return n;
+}
+
+// ---- integrators by name, stepping h ---------------------------------------------------------
+
+const std::vector<std::string> kIntegrators = {"explicit_euler", "symplectic_euler", "newtonian",
+                                               "backward_euler", "radau_iia_fixed"};
+
+std::unique_ptr<Integrator> makeStepper(const std::string& name, double h) {
+  if (name == "explicit_euler" || name == "symplectic_euler") {
+    ExplicitEulerParams p;
+    p.substep = h;
+    p.symplectic = name == "symplectic_euler";
+    return std::make_unique<ExplicitEulerIntegrator>(p);
+  }
+  if (name == "newtonian") {
+    NewtonianParams p;
+    p.substep = h;
+    return std::make_unique<NewtonianIntegrator>(p);
+  }
+  if (name == "backward_euler") return std::make_unique<BackwardEulerIntegrator>();
+  RadauOptions o;  // radau_iia_fixed: fixed steps of h, Newton must converge
+  o.adaptive = false;
+  o.initialStep = h;
+  return std::make_unique<RadauIIA>(o);
+}
+
+// ---- one run --------------------------------------------------------------------------------
+
+struct Outcome {
+  bool ok = true;            // finite, bounded energy and displacement, every frame reported ok
+  double growth = 0.0;       // max over frames of E / E0
+  int invertedMax = 0;
+  GuardStats guard;
+  double wallSeconds = 0.0;
+  std::string failure;
+};
+
+using Drive = std::function<void(System&, double t)>;  // moves controlled nodes, if any
+
+Outcome run(System& s, std::unique_ptr<Integrator> integrator, double h, int frames,
+            bool guarded, double energyScale) {
+  Outcome out;
+  StabilityGuard* guard = nullptr;
+  if (guarded) {
+    auto g = std::make_unique<StabilityGuard>(std::move(integrator));
+    guard = g.get();
+    integrator = std::move(g);
+  }
+  const double e0 = std::max(totalEnergy(s), energyScale);
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int f = 0; f < frames; ++f) {
+    const StepReport r = integrator->advance(s, h);
+    const bool finite = s.state.x.allFinite() && s.state.v.allFinite();
+    const double e = finite ? totalEnergy(s) : INFINITY;
+    out.growth = std::max(out.growth, e / e0);
+    if (finite) out.invertedMax = std::max(out.invertedMax, invertedTets(s));
+    const double reach = finite ? (s.state.x - s.mesh.rest.reshaped()).lpNorm<Eigen::Infinity>() : INFINITY;
+    if (!r.ok || !finite || out.growth > kBlowUpGrowth || reach > 10.0 * kBlock) {
+      out.ok = false;
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "frame %d (t = %.3g s): %s", f, s.state.t,
+                    !r.ok ? r.failure.c_str() : !finite ? "non-finite state"
+                    : out.growth > kBlowUpGrowth ? "energy above 10x its start" : "node beyond 10 block sizes");
+      out.failure = buf;
+      break;
+    }
+  }
+  out.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (guard) out.guard = guard->stats();
+  return out;
+}
+
+std::string csvText(std::string s) {
+  for (char& c : s)
+    if (c == ',' || c == '\n' || c == '"') c = ';';
+  return s;
+}
+
+// ---- 1. the grid ----------------------------------------------------------------------------
+
+struct Grid {
+  std::vector<double> young, poisson, steps;
+  std::vector<std::string> models, integrators;
+};
+
+Grid grid(bool quick) {
+  Grid g;
+  if (quick) {
+    g.young = {1e4, 1e8};
+    g.poisson = {0.3, 0.49};
+    g.steps = {1e-4, 1e-2};
+    g.models = {"edge_length", "stvk_displacement"};
+    g.integrators = {"symplectic_euler", "backward_euler"};
+    return g;
+  }
+  g.young = {1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
+  g.poisson = {0.3, 0.45, 0.49, 0.4999};
+  g.steps = {1e-5, 1e-4, 1e-3, 1e-2, 1e-1};
+  g.models = bench::elasticModelNames();
+  g.integrators = kIntegrators;
+  return g;
+}
+
+int framesFor(double h) { return std::max(50, static_cast<int>(std::ceil(0.005 / h))); }
+
+void sweepGrid(const Grid& g, const std::string& path) {
+  std::ofstream csv(path);
+  csv << "integrator,model,young,poisson,step,outcome,energy_growth,inverted_max,"
+         "guard_recoveries,guard_halvings,guard_failures,wall_seconds,guarded_wall_seconds,failure\n";
+  const Mesh mesh = blockMesh();
+  const std::size_t total = g.integrators.size() * g.models.size() * g.young.size() *
+                            g.poisson.size() * g.steps.size();
+  std::size_t done = 0;
+  for (const std::string& integrator : g.integrators)
+    for (const std::string& model : g.models) {
+      int stable = 0, recovered = 0, failed = 0;
+      for (double young : g.young)
+        for (double poisson : g.poisson)
+          for (double h : g.steps) {
+            auto bare = blockSystem(model, young, poisson, mesh);
+            shear(*bare, 0.1);
+            const Outcome a = run(*bare, makeStepper(integrator, h), h, framesFor(h), false, 0.0);
+            Outcome b;
+            if (!a.ok) {
+              auto guarded = blockSystem(model, young, poisson, mesh);
+              shear(*guarded, 0.1);
+              b = run(*guarded, makeStepper(integrator, h), h, framesFor(h), true, 0.0);
+            }
+            const std::string outcome = a.ok ? "stable" : b.ok ? "recovered" : "failed";
+            stable += a.ok;
+            recovered += !a.ok && b.ok;
+            failed += !a.ok && !b.ok;
+            const Outcome& shown = a.ok ? a : b;
+            csv << integrator << ',' << model << ',' << young << ',' << poisson << ',' << h << ','
+                << outcome << ',' << (a.ok ? a.growth : b.growth) << ',' << shown.invertedMax << ','
+                << b.guard.recoveries << ',' << b.guard.halvings << ',' << b.guard.failures << ','
+                << a.wallSeconds << ',' << b.wallSeconds << ','
+                << csvText(a.ok ? "" : b.ok ? a.failure : b.failure) << '\n';
+            ++done;
+          }
+      std::printf("[%3zu%%] grid %-18s %-33s stable %3d  recovered %3d  failed %3d\n",
+                  100 * done / total, integrator.c_str(), model.c_str(), stable, recovered, failed);
+      std::fflush(stdout);
+    }
+}
+
+// ---- 2. the explicit limit ------------------------------------------------------------------
+
+double shortestEdge(const Mesh& mesh) {
+  double shortest = INFINITY;
+  for (const Tet& t : mesh.tets)
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j)
+        shortest = std::min(shortest, (mesh.rest.col(t[i]) - mesh.rest.col(t[j])).norm());
+  return shortest;
+}
+
+// Largest eigenvalue of M^-1 (-K) at rest on the free DOFs (power iteration).
+double omegaMax(const System& s) {
+  const Eigen::SparseMatrix<double> K = bench::negativeStiffness(s, s.mesh.rest.reshaped());
+  Eigen::VectorXd v = Eigen::VectorXd::Ones(s.numDofs());
+  double lambda = 0.0;
+  for (int it = 0; it < 500; ++it) {
+    Eigen::VectorXd w = K * v;
+    for (int d = 0; d < s.numDofs(); ++d) w[d] = s.isConstrained[d] ? 0.0 : w[d] / s.mass[d];
+    const double next = w.norm() / v.norm();
+    v = w / w.norm();
+    if (std::abs(next - lambda) < 1e-10 * next) break;
+    lambda = next;
+  }
+  return std::sqrt(lambda);
+}
+
+bool stableAt(const std::string& integrator, const std::string& model, double young,
+              double poisson, const Mesh& mesh, double h) {
+  auto s = blockSystem(model, young, poisson, mesh);
+  shear(*s, 0.1);
+  return run(*s, makeStepper(integrator, h), h, 300, false, 0.0).ok;
+}
+
+double explicitLimit(const std::string& integrator, const std::string& model, double young,
+                     double poisson, const Mesh& mesh) {
+  double lo = -10.0, hi = -1.0;  // log10 h
+  if (stableAt(integrator, model, young, poisson, mesh, std::pow(10.0, hi))) return std::pow(10.0, hi);
+  if (!stableAt(integrator, model, young, poisson, mesh, std::pow(10.0, lo))) return 0.0;
+  for (int i = 0; i < 16; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (stableAt(integrator, model, young, poisson, mesh, std::pow(10.0, mid)) ? lo : hi) = mid;
+  }
+  return std::pow(10.0, lo);
+}
+
+void sweepCriticalStep(const Grid& g, bool quick, const std::string& path) {
+  std::ofstream csv(path);
+  csv << "model,young,poisson,shortest_edge,wave_speed,predicted_hc,two_over_omega_max,"
+         "limit_symplectic_euler,limit_newtonian\n";
+  const Mesh mesh = blockMesh();
+  const double L = shortestEdge(mesh);
+  const std::vector<std::string> models =
+      quick ? std::vector<std::string>{"edge_length"} : std::vector<std::string>{"edge_length", "stvk_displacement", "tensor_mass"};
+  for (const std::string& model : models)
+    for (double young : g.young)
+      for (double poisson : {0.3, 0.49}) {
+        const Material m = Material::isotropic(young, poisson, kDensity);
+        const double c = std::sqrt((m.lambda + 2.0 * m.mu) / kDensity);
+        auto s = blockSystem(model, young, poisson, mesh);
+        const double wmax = s->hasStiffness() ? omegaMax(*s) : NAN;
+        const double se = explicitLimit("symplectic_euler", model, young, poisson, mesh);
+        const double nw = explicitLimit("newtonian", model, young, poisson, mesh);
+        csv << model << ',' << young << ',' << poisson << ',' << L << ',' << c << ',' << L / c
+            << ',' << 2.0 / wmax << ',' << se << ',' << nw << '\n';
+        std::printf("[limit] %-18s E %8.0e nu %.2f: h_c = L/c %.3e  2/omega_max %.3e  "
+                    "symplectic %.3e  newtonian %.3e\n",
+                    model.c_str(), young, poisson, L / c, 2.0 / wmax, se, nw);
+        std::fflush(stdout);
+      }
+}
+
+// ---- 3. extreme cases -----------------------------------------------------------------------
+
+struct Case {
+  std::string name;
+  double heightScale = 1.0;
+  std::function<void(System&)> setup;  // initial state, controlled sets
+  double duration = 0.3;               // s
+};
+
+std::vector<int> topNodes(const Mesh& mesh) {
+  const double top = mesh.rest.row(2).maxCoeff();
+  std::vector<int> nodes;
+  for (int n = 0; n < mesh.numNodes(); ++n)
+    if (mesh.rest(2, n) > top - 1e-12) nodes.push_back(n);
+  return nodes;
+}
+
+// Each top node follows the path of a rotation by up to `degrees` about the vertical axis of
+// the block, reached at time `over` (20 keyframes).
+void twistTop(System& s, double degrees, double over) {
+  const Eigen::Vector2d centre(0.5 * kBlock, 0.5 * kBlock);
+  for (int n : topNodes(s.mesh)) {
+    ControlledSet set;
+    set.nodes = {n};
+    const Eigen::Vector2d r = s.mesh.rest.col(n).head<2>() - centre;
+    for (int k = 0; k <= 20; ++k) {
+      const double a = degrees * M_PI / 180.0 * k / 20.0;
+      const Eigen::Vector2d rotated(std::cos(a) * r.x() - std::sin(a) * r.y(),
+                                    std::sin(a) * r.x() + std::cos(a) * r.y());
+      set.path.times.push_back(over * k / 20.0);
+      set.path.offsets.push_back(Eigen::Vector3d(rotated.x() - r.x(), rotated.y() - r.y(), 0.0));
+    }
+    s.controlled.push_back(set);
+  }
+  s.updateConstraints();
+}
+
+std::vector<Case> extremeCases() {
+  std::vector<Case> cases;
+  cases.push_back({"compression_80pct", 1.0, [](System& s) {
+                     ControlledSet set;
+                     set.nodes = topNodes(s.mesh);
+                     set.path.times = {0.0, 0.2};
+                     set.path.offsets = {Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0, -0.8 * kBlock)};
+                     s.controlled.push_back(set);
+                     s.updateConstraints();
+                   }});
+  cases.push_back({"forced_inversion", 1.0, [](System& s) {
+                     // The top corner node pushed through the block to below its neighbours.
+                     const std::vector<int> top = topNodes(s.mesh);
+                     int corner = top.front();
+                     for (int n : top)
+                       if (s.mesh.rest.col(n).sum() > s.mesh.rest.col(corner).sum()) corner = n;
+                     s.state.x.segment<3>(3 * corner) -= Eigen::Vector3d(0.5, 0.5, 1.5) * kBlock / 3.0;
+                   }});
+  cases.push_back({"twist_180deg", 1.0, [](System& s) { twistTop(s, 180.0, 0.2); }});
+  cases.push_back({"impact_20m_per_s", 1.0, [](System& s) {
+                     for (int n = 0; n < s.numNodes(); ++n)
+                       if (s.mesh.nodeTags[n] == 0) s.state.v[3 * n + 2] = -20.0;
+                   }});
+  cases.push_back({"sliver_elements", 0.02, [](System& s) { shear(s, 0.1); }});
+  return cases;
+}
+
+void sweepExtremes(bool quick, const std::string& path) {
+  std::ofstream csv(path);
+  csv << "case,integrator,model,step,outcome,energy_growth,inverted_max,guard_recoveries,"
+         "guard_halvings,guard_failures,wall_seconds,failure\n";
+  const double young = 1e4, poisson = 0.45;
+  const std::vector<std::string> models =
+      quick ? std::vector<std::string>{"edge_length"} : std::vector<std::string>{"edge_length", "stvk_displacement", "tensor_mass"};
+  const std::vector<std::pair<std::string, double>> steppers =
+      quick ? std::vector<std::pair<std::string, double>>{{"backward_euler", 1e-3}}
+            : std::vector<std::pair<std::string, double>>{
+                  {"symplectic_euler", 1e-4}, {"newtonian", 1e-4}, {"backward_euler", 1e-3},
+                  {"backward_euler", 1e-2}, {"radau_iia_fixed", 1e-3}};
+  for (const Case& c : extremeCases())
+    for (const auto& [integrator, h] : steppers)
+      for (const std::string& model : models) {
+        const Mesh mesh = blockMesh(c.heightScale);
+        const int frames = static_cast<int>(std::ceil(c.duration / h));
+        Outcome o[2];
+        for (int guarded = 0; guarded < 2; ++guarded) {
+          auto s = blockSystem(model, young, poisson, mesh);
+          c.setup(*s);
+          // Driven cases put energy in: measure growth against the work scale of the drive.
+          const double scale = 0.5 * Material::isotropic(young, poisson, kDensity).mu * 8e-6;
+          o[guarded] = run(*s, makeStepper(integrator, h), h, frames, guarded == 1, scale);
+        }
+        const std::string outcome = o[0].ok ? "stable" : o[1].ok ? "recovered" : "failed";
+        const Outcome& shown = o[0].ok ? o[0] : o[1];
+        csv << c.name << ',' << integrator << ',' << model << ',' << h << ',' << outcome << ','
+            << shown.growth << ',' << shown.invertedMax << ',' << o[1].guard.recoveries << ','
+            << o[1].guard.halvings << ',' << o[1].guard.failures << ',' << o[0].wallSeconds << ','
+            << csvText(o[0].ok ? "" : o[1].ok ? o[0].failure : o[1].failure) << '\n';
+        std::printf("[extreme] %-18s %-16s h %.0e %-26s %-9s inverted %3d  guard halvings %ld\n",
+                    c.name.c_str(), integrator.c_str(), h, model.c_str(), outcome.c_str(),
+                    shown.invertedMax, o[1].guard.halvings);
+        std::fflush(stdout);
+      }
+}
+
+}  // namespace
+}  // namespace tt
+
+int main(int argc, char** argv) {
+  bool quick = false;
+  std::string out = ".";
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--quick") quick = true;
+    else if (a == "--out" && i + 1 < argc) out = argv[++i];
+    else {
+      std::fprintf(stderr, "usage: bench_stability_sweep [--quick] [--out DIR]\n");
+      return 2;
+    }
+  }
+  if (std::system(("mkdir -p '" + out + "'").c_str()) != 0) {
+    std::fprintf(stderr, "bench_stability_sweep: cannot create %s\n", out.c_str());
+    return 1;
+  }
+  const tt::Grid g = tt::grid(quick);
+  tt::sweepGrid(g, out + "/stability_sweep.csv");
+  tt::sweepCriticalStep(g, quick, out + "/critical_step.csv");
+  tt::sweepExtremes(quick, out + "/extreme_cases.csv");
+  std::printf("written: %s/stability_sweep.csv, critical_step.csv, extreme_cases.csv\n", out.c_str());
+  return 0;
+}
