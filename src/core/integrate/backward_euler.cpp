@@ -65,11 +65,24 @@ bool BackwardEulerIntegrator::conjugateGradients(const Eigen::VectorXd& b, Eigen
 }
 
 int BackwardEulerIntegrator::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
-  if (b.norm() == 0.0) {
+  // Solved for x / s against b / s with s = max |b_i|: a body that has nearly come to rest
+  // under strong damping has a right side so small that |b|^2 and the CG products underflow
+  // (to 0 / 0, or to a zero step that stops the damping).
+  const double scale = b.lpNorm<Eigen::Infinity>();
+  if (scale == 0.0) {
     diagnostics_.lastRelativeResidual = 0.0;
     x.setZero();
     return 0;
   }
+  unitB_ = b / scale;
+  x /= scale;
+  if (!x.allFinite()) x.setZero();
+  const int iterations = solveUnit(unitB_, x);
+  x *= scale;
+  return iterations;
+}
+
+int BackwardEulerIntegrator::solveUnit(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   inverseDiagonal_.resize(A_.rows());
   bool positiveDiagonal = true;
   for (int row = 0; row < A_.rows(); ++row) {

@@ -58,13 +58,14 @@ class BackwardEulerIntegrator : public Integrator {
   void buildMatrix(const System& system, double h);
   // Solves A x = b (x holds the initial guess); returns the iterations used.
   int solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
+  int solveUnit(const Eigen::VectorXd& b, Eigen::VectorXd& x);  // max |b_i| = 1
   bool conjugateGradients(const Eigen::VectorXd& b, Eigen::VectorXd& x, int& iterations);
 
   BackwardEulerDiagnostics diagnostics_;
   SparseMatrix K_, A_;
   std::vector<int> diagonal_;  // offset of (i, i) in A_'s value array
   Eigen::VectorXd dv_, f_, rhs_, constrainedDv_, residual_, correction_;
-  Eigen::VectorXd r_, z_, p_, Ap_, inverseDiagonal_;
+  Eigen::VectorXd unitB_, r_, z_, p_, Ap_, inverseDiagonal_;
   Eigen::VectorXd x1_, v1_, targetX_, targetV_;
 };
 
