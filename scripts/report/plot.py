@@ -1,12 +1,14 @@
 #!/usr/bin/python3
 """Draws the benchmark report from the CSV files of bench_work_precision and bench_scaling.
 
-  plot.py DIR [--elapsed SECONDS] [--command TEXT]
+  plot.py DIR [--elapsed SECONDS] [--command TEXT] [--note TEXT]
 
 Reads DIR/work_precision.csv, work_precision_facts.csv, scaling.csv and scaling_fits.csv;
 writes one log-log error-vs-time PNG per problem (Pareto front highlighted), the mesh
 convergence and scaling plots, and DIR/README.md naming each problem's Pareto front and its
-best pair, with the machine and the date.
+best pair, with the machine and the date. If present, DIR/bullet_peer.csv (bench_bullet_peer)
+adds Bullet's runs to the plots and a same-run table beside our pair, and DIR/stability.md
+(stability_maps.py) gets a closing section with its summary table.
 """
 import argparse
 import csv
@@ -117,6 +119,12 @@ def best_pair(front, key):
     return max(counts.items(), key=lambda kv: (len(kv[1]), -min(kv[1])))[0] if counts else None
 
 
+def load_csv_runs(path):
+    rows = read_csv(path)
+    check_columns(rows, path)
+    return load_runs(rows)
+
+
 def load_runs(rows):
     runs = []
     for row in rows:
@@ -138,6 +146,28 @@ COLOURS = {"newtonian": "tab:blue", "symplectic_euler": "tab:cyan", "explicit_eu
 MARKERS = {"edge_length": "o", "edge_length_literal": "s", "stvk_displacement": "^",
            "stvk_displacement_paper_literal": "v", "tensor_mass": "D"}
 FLOOR = 1e-16  # exact results are drawn here on the log axis
+
+# bench_bullet_peer: Bullet's forces (legend name, marker, colour) and our pair beside them.
+BULLET_FORCES = {"bullet_linear_elasticity": ("linear elasticity", "X", "black"),
+                 "bullet_neohookean": ("Neo-Hookean", "P", "dimgray")}
+PEER_PAIR = ("stvk_displacement", "backward_euler")
+
+
+def is_bullet(r):
+    return r["model"].startswith("bullet_")
+
+
+def stable_bullet(peer):
+    """Bullet's stable runs of the step sweep (its Krylov-cap sweep stays in bullet_peer.md)."""
+    return [r for r in peer if is_bullet(r) and r["stable"] and r["parameter_name"] == "h"]
+
+
+def bullet_name(model):
+    return "Bullet " + BULLET_FORCES.get(model, (model[len("bullet_"):],))[0]
+
+
+def bullet_style(model):
+    return BULLET_FORCES.get(model, (None, "*", "black"))[1:]
 
 
 def draw_panel(ax, runs, key, title):
@@ -164,6 +194,24 @@ def draw_panel(ax, runs, key, title):
     ax.grid(True, which="major", alpha=0.3)
 
 
+def draw_bullet(ax, bullet, key):
+    """Bullet's step sweep, a dotted line per force, drawn below our runs."""
+    for model in sorted({r["model"] for r in bullet}):
+        marker, colour = bullet_style(model)
+        points = sorted((r for r in bullet if r["model"] == model and finite(r[key])),
+                        key=lambda r: r["cpu"])
+        ax.plot([r["cpu"] for r in points], [max(r[key], FLOOR) for r in points],
+                marker=marker, color=colour, linestyle=":", linewidth=1.0, markersize=7,
+                alpha=0.75, zorder=1.5)
+
+
+def bullet_handles(bullet):
+    from matplotlib.lines import Line2D
+    return [Line2D([], [], marker=bullet_style(m)[0], color=bullet_style(m)[1], linestyle=":",
+                   markersize=7, label=f"{bullet_name(m)} (backward Euler)")
+            for m in sorted({r["model"] for r in bullet})]
+
+
 def legend_handles(runs):
     from matplotlib.lines import Line2D
     integrators = sorted({r["integrator"] for r in runs})
@@ -176,13 +224,17 @@ def legend_handles(runs):
     return handles
 
 
-def plot_problem(problem, runs, out_dir):
+def plot_problem(problem, runs, out_dir, bullet=()):
+    """bullet: Bullet's stable runs of bullet_peer.csv, drawn beside ours, not in the fronts."""
     fig, axes = plt.subplots(1, 2, figsize=(13, 5.5))
     stable = [r for r in runs if r["stable"]]
-    draw_panel(axes[0], stable, "error", "error as defined by the problem")
-    draw_panel(axes[1], stable, "discrete", "discrete error (same mesh and model, exact)")
+    for ax, key, title in ((axes[0], "error", "error as defined by the problem"),
+                           (axes[1], "discrete", "discrete error (same mesh and model, exact)")):
+        draw_panel(ax, stable, key, title)
+        draw_bullet(ax, bullet, key)
     fig.suptitle(PROBLEMS.get(problem, (problem,))[0])
-    fig.legend(handles=legend_handles(runs), loc="lower center", ncol=6, fontsize=8)
+    fig.legend(handles=legend_handles(runs) + bullet_handles(bullet), loc="lower center", ncol=6,
+               fontsize=8)
     fig.tight_layout(rect=(0, 0.1, 1, 0.95))
     path = os.path.join(out_dir, f"{problem}.png")
     fig.savefig(path, dpi=110)
@@ -289,7 +341,7 @@ def problem_section(problem, runs, facts, image):
         lines.append("")
     stopped = [r for r in runs if r["stable"] and "time limit" in r["note"]]
     if stopped:
-        lines.append("Stopped at the per-run wall-time limit (no error measured): " +
+        lines.append("Stopped at the per-run CPU-time limit (no error measured): " +
                      ", ".join(f"{r['model']} + {r['integrator']} {run_label(r)}" for r in stopped) +
                      ".")
         lines.append("")
@@ -299,6 +351,68 @@ def problem_section(problem, runs, facts, image):
                      f" of {len(runs)} runs.")
         lines.append("")
     return lines
+
+
+def ratio(a, b):
+    return a / b if finite(a) and finite(b) and b > 0 else float("nan")
+
+
+def cell(r, *extra):
+    return " / ".join([fmt(r[k]) for k in ("error", "discrete", "cpu")] + [fmt(x) for x in extra])
+
+
+def bullet_table(peer, bullet):
+    """At each step h: our pair of bullet_peer.csv, then each Bullet force and its CPU ratio."""
+    ours = {r["parameter"]: r for r in peer
+            if (r["model"], r["integrator"]) == PEER_PAIR and r["parameter_name"] == "h"}
+    forces = sorted({r["model"] for r in bullet})
+    by_step = {(r["model"], r["parameter"]): r for r in bullet if r["parameter_name"] == "h"}
+    lines = ["| h (s) | ours: error / discrete / CPU s | " +
+             " | ".join(f"{bullet_name(m)}: error / discrete / CPU s / ratio" for m in forces) +
+             " |", "|---|---|" + "---|" * len(forces)]
+    for h in sorted({h for _, h in by_step}, reverse=True):
+        mine = ours.get(h)
+        cells = [fmt(h), cell(mine) if mine else "n/a"]
+        cells += [cell(by_step[m, h], ratio(by_step[m, h]["cpu"], mine["cpu"] if mine else 0))
+                  if (m, h) in by_step else "n/a" for m in forces]
+        lines.append("| " + " | ".join(cells) + " |")
+    return lines
+
+
+def combined_front_text(stable, bullet, key):
+    """Bullet's runs on the front over our runs and Bullet's, each with how much it beats the
+    error of the faster front run before it."""
+    front = pareto_front(stable + bullet, key)
+    on = [f"{bullet_name(r['model'])} {run_label(r)} (error {fmt(r[key])} in {fmt(r['cpu'])} s"
+          + (f", {fmt(1 - r[key] / front[i - 1][key], 2)} below the faster "
+             f"{front[i - 1]['model']} + {front[i - 1]['integrator']})" if i else ")")
+          for i, r in enumerate(front) if is_bullet(r)]
+    return "; ".join(on) if on else "none of Bullet's runs"
+
+
+def bullet_section(runs, peer, d):
+    """Bullet beside our pair in bullet_peer.csv, the combined fronts and Bullet's failures."""
+    bullet = stable_bullet(peer)
+    if not bullet:
+        return []
+    link = "[bullet_peer.md](bullet_peer.md)" if os.path.exists(
+        os.path.join(d, "bullet_peer.md")) else "`bullet_peer.md`"
+    stable = [r for r in runs if r["stable"]]
+    fronts = [f"{label}: {combined_front_text(stable, bullet, key)}"
+              for key, label in (("error", "error"), ("discrete", "discrete error"))]
+    unstable = [f"{r['model']} + {r['integrator']} {run_label(r)}"
+                + (f" ({r['note']})" if r["note"] else "")
+                for r in peer if is_bullet(r) and not r["stable"]]
+    lines = ["Bullet beside our pair, same run (Bullet 3.24's deformable solver, see " + link +
+             "): these times come from `bullet_peer.csv`'s own run, measured in the same process "
+             "as its " + " + ".join(PEER_PAIR) + " rows, so they are compared with the rows of "
+             "that file, not with the work-precision runs above. Ratio: CPU time Bullet / ours.",
+             ""] + bullet_table(peer, bullet) + [
+             "", "On the Pareto front over our work-precision runs and Bullet's (CPU time, so it "
+             "mixes the clocks of two runs), " + "; ".join(fronts) + "."]
+    if unstable:
+        lines += ["", "Bullet runs marked unstable, not drawn: " + ", ".join(unstable) + "."]
+    return lines + [""]
 
 
 def summary_row(problem, runs):
@@ -365,6 +479,49 @@ def scaling_section(d):
     return lines
 
 
+def table_after_first_paragraph(path):
+    """The Markdown table right after the first paragraph below the title of path, or []."""
+    with open(path) as f:
+        lines = [line.rstrip("\n") for line in f]
+    i = 0
+    while i < len(lines) and (not lines[i].strip() or lines[i].startswith("#")):
+        i += 1
+    while i < len(lines) and lines[i].strip() and not lines[i].startswith("|"):
+        i += 1
+    while i < len(lines) and not lines[i].strip():
+        i += 1
+    table = []
+    while i < len(lines) and lines[i].startswith("|"):
+        table.append(lines[i])
+        i += 1
+    return table if len(table) >= 2 else []
+
+
+def stability_section(d):
+    path = os.path.join(d, "stability.md")
+    if not os.path.exists(path):
+        return []
+    table = table_after_first_paragraph(path)
+    text = ("The stability sweep (`bench_stability_sweep`: Young's modulus x Poisson ratio x "
+            "step, and extreme cases), its maps and the critical step are in "
+            "[stability.md](stability.md)")
+    if not table:
+        return ["## Stability on stiff and extreme tissue", "", text + ".", ""]
+    return ["## Stability on stiff and extreme tissue", "", text + "; per integrator and model, "
+            "the cells that stay stable, pass only under the stability guard (recovered) or "
+            "fail:", ""] + table + [""]
+
+
+def load_peer(d):
+    """bullet_peer.csv by problem, or nothing if bench_bullet_peer did not run."""
+    path = os.path.join(d, "bullet_peer.csv")
+    peer = defaultdict(list)
+    if os.path.exists(path):
+        for r in load_csv_runs(path):
+            peer[r["problem"]].append(r)
+    return peer
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("dir")
@@ -375,9 +532,8 @@ def main():
     d = args.dir
 
     work_path = os.path.join(d, "work_precision.csv")
-    rows = read_csv(work_path)
-    check_columns(rows, work_path)
-    runs = load_runs(rows)
+    runs = load_csv_runs(work_path)
+    peer = load_peer(d)
     facts = defaultdict(list)
     facts_path = os.path.join(d, "work_precision_facts.csv")
     if os.path.exists(facts_path):
@@ -420,14 +576,16 @@ def main():
     ordered = [p for p in PROBLEMS if p in by_problem] + sorted(
         p for p in by_problem if p not in PROBLEMS and p != "cantilever_static_mesh")
     for problem in ordered:
-        image = plot_problem(problem, by_problem[problem], d)
+        image = plot_problem(problem, by_problem[problem], d, stable_bullet(peer.get(problem, [])))
         sections += problem_section(problem, by_problem[problem], facts.get(problem, []), image)
+        sections += bullet_section(by_problem[problem], peer.get(problem, []), d)
         summary.append(summary_row(problem, by_problem[problem]))
     lines += ["## Summary", ""] + summary + [""] + sections
     if by_problem.get("cantilever_static_mesh"):
         lines += mesh_section(by_problem["cantilever_static_mesh"], d)
     if os.path.exists(os.path.join(d, "scaling.csv")):
         lines += scaling_section(d)
+    lines += stability_section(d)
 
     with open(os.path.join(d, "README.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
