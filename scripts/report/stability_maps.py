@@ -109,10 +109,15 @@ def draw_critical(critical, out_dir):
 def summary(rows, critical, extremes, maps):
     lines = ["# Stability on stiff and extreme tissue", "",
              "From `bench_stability_sweep` (a 2 cm block of 162 tets clamped at its base, "
-             "released from a 10 % shear, mass damping 1/s; one step per frame; each cell run "
-             "bare and, if that fails, under the stability guard). stable: the bare run stays "
-             "finite with its energy below 10x the start; recovered: only the guarded run "
-             "passes; failed: both fail.", "",
+             "released from a 10 % shear, mass damping 1/s, no gravity; one step per frame for "
+             "max(50 steps, 5 ms); each cell run bare and, if that fails, under the stability "
+             "guard). stable: the bare run stays finite, its energy below 10x the start, every "
+             "node within 10 block sizes and, for the models that cannot take inversion (the "
+             "StVK forms: `edge_length` on both paths, `stvk_displacement` with both signs), every tet "
+             "above 1 % of its rest volume; recovered: the bare run fails and the guarded run "
+             "passes; failed: both fail (the guard ended the run with its message, the state of "
+             "the last good frame restored). The verdict covers the run's length only: a slow "
+             "growth (forward Euler at a small step) can pass it.", "",
              "| integrator | model | stable | recovered | failed | guard halvings |",
              "|---|---|---|---|---|---|"]
     counts = defaultdict(lambda: defaultdict(int))

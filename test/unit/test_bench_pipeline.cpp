@@ -1,13 +1,15 @@
-// The benchmark report's pipeline (scripts/bench): bench_work_precision and bench_scaling
-// run with --quick and write CSV files with the columns the plot script reads. Files and
-// columns only, never timings. Only where the build passes the executables' paths in.
+// The benchmark report's pipeline (scripts/bench): bench_work_precision, bench_scaling and
+// bench_stability_sweep run with --quick and write CSV files with the columns the report
+// scripts read. Files, columns and verdicts only, never timings. Only where the build passes the executables' paths in.
 // The output goes to TT_BENCH_TEST_OUT when set (scripts/test then draws the report from it).
-#if defined(TT_BENCH_WORK_PRECISION_PATH) && defined(TT_BENCH_SCALING_PATH)
+#if defined(TT_BENCH_WORK_PRECISION_PATH) && defined(TT_BENCH_SCALING_PATH) && \
+    defined(TT_BENCH_STABILITY_SWEEP_PATH)
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -42,12 +44,15 @@ class BenchPipeline : public ::testing::Test {
                             outputDir().string(), "work_precision.log");
     scalingExit = run(std::string(TT_BENCH_SCALING_PATH) + " --quick --out " +
                       outputDir().string(), "scaling.log");
+    sweepExit = run(std::string(TT_BENCH_STABILITY_SWEEP_PATH) + " --quick --out " +
+                    outputDir().string(), "stability_sweep.log");
   }
-  static int workPrecisionExit, scalingExit;
+  static int workPrecisionExit, scalingExit, sweepExit;
 };
 
 int BenchPipeline::workPrecisionExit = -1;
 int BenchPipeline::scalingExit = -1;
+int BenchPipeline::sweepExit = -1;
 
 TEST_F(BenchPipeline, WorkPrecisionCsvHasTheColumnsAndEveryProblem) {
   ASSERT_EQ(workPrecisionExit, 0);
@@ -108,6 +113,80 @@ TEST_F(BenchPipeline, ScalingCsvAndFits) {
   ASSERT_GT(fits.size(), 1u);
   EXPECT_EQ(fits[0], (std::vector<std::string>{"quantity", "model", "slope", "log_intercept"}));
   for (size_t i = 1; i < fits.size(); ++i) EXPECT_TRUE(std::isfinite(std::stod(fits[i][2])));
+}
+
+// Rows of a CSV file as column name -> text, the header checked against `columns`.
+std::vector<std::map<std::string, std::string>> namedRows(const fs::path& path,
+                                                          const std::vector<std::string>& columns) {
+  const auto rows = readCsv(path);
+  EXPECT_GT(rows.size(), 1u) << path;
+  if (rows.empty()) return {};
+  EXPECT_EQ(rows[0], columns) << path;
+  std::vector<std::map<std::string, std::string>> named;
+  for (size_t i = 1; i < rows.size(); ++i) {
+    EXPECT_EQ(rows[i].size(), columns.size()) << path << " row " << i;
+    std::map<std::string, std::string> row;
+    for (size_t c = 0; c < columns.size() && c < rows[i].size(); ++c) row[columns[c]] = rows[i][c];
+    named.push_back(row);
+  }
+  return named;
+}
+
+const std::set<std::string> kOutcomes = {"stable", "recovered", "failed"};
+
+// The quick grid: its verdicts must tell a step far beyond the explicit limit from one far
+// below it (E = 100 MPa, nu = 0.3: h_c = L/c = 1.8e-5 s on this block).
+TEST_F(BenchPipeline, StabilitySweepGridSeparatesStableFromUnstable) {
+  ASSERT_EQ(sweepExit, 0);
+  const auto rows = namedRows(
+      outputDir() / "stability_sweep.csv",
+      {"integrator", "model", "young", "poisson", "step", "outcome", "energy_growth",
+       "inverted_max", "guard_recoveries", "guard_halvings", "guard_failures", "wall_seconds",
+       "guarded_wall_seconds", "failure"});
+  int checked = 0;
+  for (const auto& r : rows) {
+    ASSERT_TRUE(kOutcomes.count(r.at("outcome"))) << r.at("outcome");
+    const double young = std::stod(r.at("young")), step = std::stod(r.at("step"));
+    const bool bareFailed = r.at("outcome") != "stable";
+    EXPECT_EQ(bareFailed, !r.at("failure").empty()) << "a failed bare run names its failure";
+    if (r.at("integrator") == "symplectic_euler" && young == 1e8 && step == 1e-2) {
+      EXPECT_TRUE(bareFailed) << r.at("model") << ": 500x the explicit limit cannot be stable";
+      ++checked;
+    }
+    if (r.at("integrator") == "backward_euler" && young == 1e4 && step == 1e-4) {
+      EXPECT_EQ(r.at("outcome"), "stable") << r.at("model") << " " << r.at("failure");
+      ++checked;
+    }
+    if (r.at("outcome") == "recovered") EXPECT_GT(std::stol(r.at("guard_halvings")), 0);
+  }
+  EXPECT_GE(checked, 8);  // 2 models x 2 Poisson ratios x the 2 cells above
+}
+
+TEST_F(BenchPipeline, StabilitySweepCriticalStepAndExtremeCases) {
+  ASSERT_EQ(sweepExit, 0);
+  const auto critical = namedRows(
+      outputDir() / "critical_step.csv",
+      {"model", "young", "poisson", "shortest_edge", "wave_speed", "predicted_hc",
+       "two_over_omega_max", "limit_symplectic_euler", "limit_newtonian"});
+  for (const auto& r : critical) {
+    const double predicted = std::stod(r.at("predicted_hc"));
+    const double measured = std::stod(r.at("limit_symplectic_euler"));
+    EXPECT_GT(predicted, 0.0);
+    // A CFL-type estimate is right to within an order of magnitude, not exactly.
+    EXPECT_GT(measured, 0.1 * predicted) << r.at("young");
+    EXPECT_LT(measured, 10.0 * predicted) << r.at("young");
+  }
+  const auto extremes = namedRows(
+      outputDir() / "extreme_cases.csv",
+      {"case", "integrator", "model", "step", "outcome", "energy_growth", "inverted_max",
+       "guard_recoveries", "guard_halvings", "guard_failures", "wall_seconds", "failure"});
+  std::set<std::string> cases;
+  for (const auto& r : extremes) {
+    EXPECT_TRUE(kOutcomes.count(r.at("outcome"))) << r.at("case");
+    cases.insert(r.at("case"));
+  }
+  EXPECT_EQ(cases, (std::set<std::string>{"compression_80pct", "forced_inversion", "twist_180deg",
+                                          "impact_20m_per_s", "sliver_elements"}));
 }
 
 }  // namespace
