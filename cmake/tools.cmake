@@ -25,3 +25,8 @@ if(TARGET bench_bullet_peer)
   target_link_libraries(bench_bullet_peer ${TT_BULLET64_SOFTBODY} ${TT_BULLET64_DYNAMICS}
     ${TT_BULLET64_COLLISION} ${TT_BULLET64_MATH})
 endif()
+
+# bench_scene_parts times the instrument contact query of the simulation node (Bullet).
+if(TARGET bench_scene_parts)
+  target_link_libraries(bench_scene_parts tissue_trainer_contact)
+endif()
