@@ -472,8 +472,8 @@ def scaling_section(d):
     for s in samples:
         groups[(s["quantity"], s["model"])][int(s["tets"])] = number(s["wall_seconds"])
     for (quantity, model), times in sorted(groups.items()):
-        lines.append(f"| {quantity} | {model} | " +
-                     " | ".join(f"{fmt(1e3 * times[t])} ms" for t in sizes if t in times) +
+        cells = [f"{fmt(1e3 * times[t])} ms" if t in times else "n/a" for t in sizes]
+        lines.append(f"| {quantity} | {model} | " + " | ".join(cells) +
                      f" | {fmt(fits.get((quantity, model), float('nan')))} |")
     lines.append("")
     return lines
