@@ -142,7 +142,6 @@ struct Outcome {
   std::string failure;
 };
 
-using Drive = std::function<void(System&, double t)>;  // moves controlled nodes, if any
 
 // driven: controlled nodes put energy in, so the growth is recorded but is no failure (the
 // guard's energy balance, which counts their work, is the test there).
