@@ -142,7 +142,6 @@ struct Outcome {
   std::string failure;
 };
 
-
 // driven: controlled nodes put energy in, so the growth is recorded but is no failure (the
 // guard's energy balance, which counts their work, is the test there).
 Outcome run(System& s, std::unique_ptr<Integrator> integrator, double h, int frames,
