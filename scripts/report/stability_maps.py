@@ -37,6 +37,11 @@ def read_csv(path, columns=None):
     return rows
 
 
+def read_optional_csv(path):
+    """The rows of a file the sweep writes only without --grid-only; none when it is absent."""
+    return read_csv(path) if os.path.exists(path) else []
+
+
 def wave_limit(critical, poisson):
     """Young's modulus -> predicted h_c for one Poisson ratio (first model listed)."""
     first = critical[0]["model"] if critical else None
@@ -174,8 +179,8 @@ def main():
         sys.exit("usage: stability_maps.py DIR")
     d = sys.argv[1]
     rows = read_csv(os.path.join(d, "stability_sweep.csv"), SWEEP_COLUMNS)
-    critical = read_csv(os.path.join(d, "critical_step.csv"))
-    extremes = read_csv(os.path.join(d, "extreme_cases.csv"))
+    critical = read_optional_csv(os.path.join(d, "critical_step.csv"))
+    extremes = read_optional_csv(os.path.join(d, "extreme_cases.csv"))
     groups = defaultdict(list)
     for r in rows:
         groups[(r["integrator"], r["model"])].append(r)

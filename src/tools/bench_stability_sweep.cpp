@@ -205,6 +205,16 @@ std::string csvText(std::string s) {
   return s;
 }
 
+// Opens a CSV file for writing; a file that cannot be written ends the run (exit 1).
+std::ofstream openCsv(const std::string& path) {
+  std::ofstream csv(path);
+  if (!csv) {
+    std::fprintf(stderr, "bench_stability_sweep: cannot write %s\n", path.c_str());
+    std::exit(1);
+  }
+  return csv;
+}
+
 // ---- 1. the grid ----------------------------------------------------------------------------
 
 struct Grid {
@@ -256,7 +266,7 @@ bool inGrid(const std::string& integrator, const std::string& model) {
 int framesFor(double h) { return std::max(50, static_cast<int>(std::ceil(0.005 / h))); }
 
 void sweepGrid(const Grid& g, const std::string& path) {
-  std::ofstream csv(path);
+  std::ofstream csv = openCsv(path);
   csv << "integrator,model,young,poisson,step,outcome,energy_growth,inverted_max,"
          "guard_recoveries,guard_halvings,guard_failures,wall_seconds,guarded_wall_seconds,failure\n";
   const Mesh mesh = blockMesh();
@@ -345,7 +355,7 @@ double explicitLimit(const std::string& integrator, const std::string& model, do
 }
 
 void sweepCriticalStep(const Grid& g, bool quick, const std::string& path) {
-  std::ofstream csv(path);
+  std::ofstream csv = openCsv(path);
   csv << "model,young,poisson,shortest_edge,wave_speed,predicted_hc,two_over_omega_max,"
          "limit_symplectic_euler,limit_newtonian\n";
   const Mesh mesh = blockMesh();
@@ -436,7 +446,7 @@ std::vector<Case> extremeCases() {
 }
 
 void sweepExtremes(bool quick, const std::string& path) {
-  std::ofstream csv(path);
+  std::ofstream csv = openCsv(path);
   csv << "case,integrator,model,step,outcome,energy_growth,inverted_max,guard_recoveries,"
          "guard_halvings,guard_failures,wall_seconds,failure\n";
   const double young = 1e4, poisson = 0.45;
@@ -510,7 +520,10 @@ int main(int argc, char** argv) {
       !tt::keepOnly(g.models, models, "model"))
     return 2;
   tt::sweepGrid(g, out + "/stability_sweep.csv");
-  if (!gridOnly) {
+  if (gridOnly) {  // no stale files of an earlier run beside this grid
+    std::filesystem::remove(out + "/critical_step.csv", error);
+    std::filesystem::remove(out + "/extreme_cases.csv", error);
+  } else {
     tt::sweepCriticalStep(g, quick, out + "/critical_step.csv");
     tt::sweepExtremes(quick, out + "/extreme_cases.csv");
   }
