@@ -189,7 +189,8 @@ def main():
         draw_critical(critical, d)
     with open(os.path.join(d, "stability.md"), "w") as f:
         f.write(summary(rows, critical, extremes, maps))
-    print(f"wrote {len(maps)} maps, critical_step.png and stability.md in {d}")
+    plot = ", critical_step.png" if critical else ""
+    print(f"wrote {len(maps)} maps{plot} and stability.md in {d}")
 
 
 if __name__ == "__main__":
