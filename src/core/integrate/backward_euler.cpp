@@ -10,9 +10,10 @@ namespace tt {
 
 namespace {
 
+// stableNorm: a body nearly at rest has residuals whose squares underflow.
 double freeNorm(const System& system, Eigen::VectorXd r) {
   system.zeroConstrained(r);
-  return r.norm();
+  return r.stableNorm();
 }
 
 }  // namespace
@@ -150,7 +151,7 @@ bool BackwardEulerIntegrator::substep(System& system, double h, double endTime,
       system.computeForce(x1_, v1_, f_);
       residual_ = system.mass.cwiseProduct(dv_) - h * f_;
       system.zeroConstrained(residual_);
-      if (residual_.norm() <= params.newtonTolerance * scale) {
+      if (residual_.stableNorm() <= params.newtonTolerance * scale) {
         converged = true;
         break;
       }

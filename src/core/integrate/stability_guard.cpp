@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <limits>
 
+#include "frame_guard.h"
+
 namespace tt {
 namespace {
 
@@ -158,7 +160,7 @@ std::string StabilityGuard::attempt(System& system, double frameTime, int depth,
   const double t0 = frameStart_.t;
   for (int i = 0; i < pieces; ++i) {
     const double start = system.state.t;
-    const double end = i + 1 == pieces ? t0 + frameTime : t0 + frameTime * (i + 1) / pieces;
+    const double end = detail::substepEnd(t0, frameTime, i, pieces);
     pieceX_ = system.state.x;
     pieceT_ = start;
     if (i == 0) pieceStart_ = frameBalance_;
@@ -192,7 +194,7 @@ std::string StabilityGuard::checkVolumes(const System& system) const {
   int worst = -1, count = 0;
   double worstRatio = params_.minVolumeRatio;
   for (size_t e = 0; e < tets.size(); ++e) {
-    if (!(restVolume_[e] > 0.0)) continue;  // degenerate at rest: nothing to compare with
+    if (restVolume_[e] == 0.0) continue;  // degenerate at rest: nothing to compare with
     const double ratio = signedVolume(system.state.x, tets[e]) / restVolume_[e];
     if (ratio > params_.minVolumeRatio) continue;
     ++count;
