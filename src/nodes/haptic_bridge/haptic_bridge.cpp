@@ -35,12 +35,31 @@ diagnostic_msgs::KeyValue keyValue(const std::string& key, double value) {
   return kv;
 }
 
-// The ROS time (wall or simulated) at which the monotonic clock read `time`.
-ros::Time stampOf(double time) {
-  const ros::Time now = ros::Time::now();
-  const double t = now.toSec() - (monotonicSeconds() - time);
-  return t > 0.0 ? ros::Time(t) : now;
-}
+// Turns the loop's monotonic times into ROS times (wall or simulated). The offset between the
+// two clocks is read between two monotonic reads; a read that the thread was preempted in keeps
+// the previous offset, so that a preemption never shows in the stamps as a step back in time.
+class RosStamper {
+ public:
+  ros::Time stampOf(double monotonicTime) {
+    for (int attempt = 0; attempt < (known_ ? 1 : kFirstAttempts); ++attempt) {
+      const double before = monotonicSeconds();
+      const double rosNow = ros::Time::now().toSec();
+      const double after = monotonicSeconds();
+      if (after - before > kMaxReadSeconds && (known_ || attempt + 1 < kFirstAttempts)) continue;
+      offset_ = rosNow - 0.5 * (before + after);
+      known_ = true;
+      break;
+    }
+    const double t = monotonicTime + offset_;
+    return t > 0.0 ? ros::Time(t) : ros::Time::now();
+  }
+
+ private:
+  static constexpr double kMaxReadSeconds = 50e-6;
+  static constexpr int kFirstAttempts = 20;
+  double offset_ = 0.0;
+  bool known_ = false;
+};
 
 }  // namespace
 
@@ -147,12 +166,13 @@ void HapticBridge::publishForces() {
   geometry_msgs::WrenchStamped wrench;
   wrench.header.frame_id = "world";
   ForceSample sample;
+  RosStamper stamper;
   for (bool more = true; more;) {
     more = running_;  // read before draining: nothing pushed before stop() is lost
     forces_.wait(0.1);
     while (forces_.pop(sample)) {
       wrench.header.seq = static_cast<std::uint32_t>(sample.tick);
-      wrench.header.stamp = stampOf(sample.time);
+      wrench.header.stamp = stamper.stampOf(sample.time);
       wrench.wrench.force = toMsg(sample.force);
       servoPub_.publish(wrench);
     }
