@@ -245,6 +245,8 @@ class HapticBridgeTest : public ::testing::Test {
                                      wrenches.count() > 100; }, 20.0))
         << "the haptic bridge did not come up";
   }
+  void expectFadeToZeroAfter(const char* what, const std::function<bool()>& stop);
+
   ros::NodeHandle nh;
   Device device{nh};
   Simulation sim{nh};
@@ -552,31 +554,42 @@ TEST(HapticBridgeExtrapolation, LinearBeatsZeroOrderHold) {
   EXPECT_LT(eLinear, 0.5 * eZoh);
 }
 
-// The process id of a running node, asked over its XML-RPC slave API (getPid); -1 if unknown.
-int nodePid(const std::string& node) {
+// Calls `method` on a running node's XML-RPC slave API; false if the node or the call fails.
+bool callNode(const std::string& node, const std::string& method, XmlRpc::XmlRpcValue call,
+              XmlRpc::XmlRpcValue& reply) {
   XmlRpc::XmlRpcValue args, result, payload;
   args[0] = ros::this_node::getName();
   args[1] = node;
-  if (!ros::master::execute("lookupNode", args, result, payload, true)) return -1;
+  if (!ros::master::execute("lookupNode", args, result, payload, true)) return false;
   const std::string uri = payload;  // http://host:port/
   const std::size_t hostAt = uri.find("://") + 3, portAt = uri.rfind(':');
   const std::string host = uri.substr(hostAt, portAt - hostAt);
   const int port = std::atoi(uri.c_str() + portAt + 1);
   XmlRpc::XmlRpcClient client(host.c_str(), port, "/");
-  XmlRpc::XmlRpcValue call, reply;
-  call[0] = ros::this_node::getName();
-  if (!client.execute("getPid", call, reply) || reply.getType() != XmlRpc::XmlRpcValue::TypeArray)
-    return -1;
-  return int(reply[2]);
+  return client.execute(method.c_str(), call, reply) && reply.getType() == XmlRpc::XmlRpcValue::TypeArray;
 }
 
-// SIGINT (what roslaunch sends on shutdown): the force fades to zero within fade_time,
-// within the rate limit, and the last wrench is exactly zero; the models keep coming.
-TEST_F(HapticBridgeTest, ShutdownFadesToZero) {
+// The process id of a running node (getPid); -1 if unknown.
+int nodePid(const std::string& node) {
+  XmlRpc::XmlRpcValue call, reply;
+  call[0] = ros::this_node::getName();
+  return callNode(node, "getPid", call, reply) ? int(reply[2]) : -1;
+}
+
+// What `rosnode kill` sends: the slave API's shutdown.
+bool requestShutdown(const std::string& node) {
+  XmlRpc::XmlRpcValue call, reply;
+  call[0] = ros::this_node::getName();
+  call[1] = std::string("test: shutdown request");
+  return callNode(node, "shutdown", call, reply) && int(reply[0]) == 1;
+}
+
+// While the models keep coming, `stop` ends the bridge: the force fades to zero within
+// fade_time, within the rate limit, the last wrench is exactly zero and the bridge exits.
+void HapticBridgeTest::expectFadeToZeroAfter(const char* what, const std::function<bool()>& stop) {
   const double fade = bridgeParam("fade_time");
   const double maxRate = bridgeParam("max_force_rate");
-  const int pid = nodePid("/haptic_bridge");
-  ASSERT_GT(pid, 0);
+  ASSERT_GT(nodePid("/haptic_bridge"), 0);
   device.start([&](double) { return c; });
   const Eigen::Vector3d f0(0.0, 3.0, 0.0);
   const Eigen::Matrix3d K = Eigen::Matrix3d::Zero();
@@ -584,16 +597,16 @@ TEST_F(HapticBridgeTest, ShutdownFadesToZero) {
   sim.run(1.5, 100.0, [&](int i, double t) {
     if (i == 100) {
       tKill = t;
-      ASSERT_EQ(kill(pid, SIGINT), 0);
+      ASSERT_TRUE(stop()) << what;
     }
     sim.send(c, f0, K);
   });
   const std::vector<Sample> all = wrenches.samples();
   const std::vector<Sample> before = between(all, tKill - 0.2, tKill);
   ASSERT_FALSE(before.empty());
-  for (const Sample& s : before) ASSERT_NEAR((s.force - f0).norm(), 0.0, 1e-9) << "steady force before SIGINT";
+  for (const Sample& s : before) ASSERT_NEAR((s.force - f0).norm(), 0.0, 1e-9) << "steady force before " << what;
   const std::vector<Sample> after = between(all, tKill, tKill + 10.0);
-  ASSERT_FALSE(after.empty()) << "no wrench after SIGINT";
+  ASSERT_FALSE(after.empty()) << "no wrench after " << what;
   double firstZero = -1.0, worstStep = 0.0;
   for (std::size_t i = 0; i < after.size(); ++i) {
     ASSERT_TRUE(after[i].force.allFinite());
@@ -604,13 +617,24 @@ TEST_F(HapticBridgeTest, ShutdownFadesToZero) {
       EXPECT_LE(step, maxRate * (after[i].stamp - after[i - 1].stamp + 0.0002) + 1e-9);
     }
   }
-  std::printf("[shutdown] %zu wrenches after SIGINT; zero %.1f ms after it (fade_time %.0f ms), "
-              "largest step %.4f N, last %.3g N\n", after.size(), 1e3 * (firstZero - tKill), 1e3 * fade,
+  std::printf("[shutdown] %zu wrenches after %s; zero %.1f ms after it (fade_time %.0f ms), "
+              "largest step %.4f N, last %.3g N\n", after.size(), what, 1e3 * (firstZero - tKill), 1e3 * fade,
               worstStep, after.back().force.norm());
   EXPECT_EQ(after.back().force.norm(), 0.0);
   ASSERT_GT(firstZero, 0.0);
-  EXPECT_LE(firstZero - tKill, fade + 0.02);  // the signal reaches the loop within ~10 ms
+  EXPECT_LE(firstZero - tKill, fade + 0.02);  // the request reaches the loop within ~10 ms
   EXPECT_TRUE(waitFor([&] { return nodePid("/haptic_bridge") < 0; }, 5.0)) << "the bridge did not exit";
+}
+
+// SIGINT: what roslaunch sends on shutdown.
+TEST_F(HapticBridgeTest, ShutdownFadesToZero) {
+  const int pid = nodePid("/haptic_bridge");
+  expectFadeToZeroAfter("SIGINT", [pid] { return pid > 0 && kill(pid, SIGINT) == 0; });
+}
+
+// The slave API's shutdown: what `rosnode kill` sends.
+TEST_F(HapticBridgeTest, ShutdownRequestFadesToZero) {
+  expectFadeToZeroAfter("a shutdown request", [] { return requestShutdown("/haptic_bridge"); });
 }
 
 // Malformed parameters: one error line naming the parameter, exit code 2. The bridge binary
