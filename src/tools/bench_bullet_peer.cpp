@@ -385,7 +385,7 @@ Options parseOptions(int argc, char** argv) {
       o.timeLimit = bench::positiveNumber("bench_bullet_peer", arg, argv[++i]);
       timeLimitGiven = true;
     }
-    else if (arg == "--bullet-newton" && hasValue) o.bulletNewton = static_cast<int>(bench::positiveNumber("bench_bullet_peer", arg, argv[++i]));
+    else if (arg == "--bullet-newton" && hasValue) o.bulletNewton = bench::positiveInteger("bench_bullet_peer", arg, argv[++i]);
     else {
       std::fprintf(stderr, "usage: bench_bullet_peer [--quick] [--out DIR] [--pair MODEL] "
                            "[--problems a,b] [--time-limit S] [--bullet-newton N]\n");
@@ -416,6 +416,9 @@ int main(int argc, char** argv) {
   auto large = std::make_unique<BeamLargeDeflection>();
   if (o.quick) large->referenceTolerance = 1e-6;
   problems.push_back(std::move(large));
+  std::vector<std::string> names;
+  for (const auto& p : problems) names.push_back(p->name);
+  bench::requireKnown("bench_bullet_peer", "problem", o.problems, names);
   problems.erase(std::remove_if(problems.begin(), problems.end(),
                                 [&](const auto& p) { return !bench::selected(o.problems, p->name); }),
                  problems.end());

@@ -240,21 +240,6 @@ Grid grid(bool quick) {
   return g;
 }
 
-// Keeps the names of `list` that `chosen` names (all when it is empty); false, with a line,
-// when `chosen` names one the list does not have.
-bool keepOnly(std::vector<std::string>& list, const std::vector<std::string>& chosen,
-              const char* what) {
-  for (const std::string& name : chosen)
-    if (std::find(list.begin(), list.end(), name) == list.end()) {
-      std::fprintf(stderr, "bench_stability_sweep: unknown %s '%s'\n", what, name.c_str());
-      return false;
-    }
-  list.erase(std::remove_if(list.begin(), list.end(),
-                            [&](const std::string& n) { return !bench::selected(chosen, n); }),
-             list.end());
-  return true;
-}
-
 // Radau IIA at small fixed steps is the costly part of the grid; it runs the two correct
 // energies on their fast paths only: edge_length_literal and stvk_displacement evaluate the
 // same energy as edge_length (seed ERRATA) by slower formulas, and the printed Eq 5 sign
@@ -516,9 +501,8 @@ int main(int argc, char** argv) {
   }
   const double wall0 = tt::bench::wallSeconds(), cpu0 = tt::bench::cpuSeconds();
   tt::Grid g = tt::grid(quick);
-  if (!tt::keepOnly(g.integrators, integrators, "integrator") ||
-      !tt::keepOnly(g.models, models, "model"))
-    return 2;
+  tt::bench::keepOnly("bench_stability_sweep", "integrator", g.integrators, integrators);
+  tt::bench::keepOnly("bench_stability_sweep", "model", g.models, models);
   tt::sweepGrid(g, out + "/stability_sweep.csv");
   if (gridOnly) {  // no stale files of an earlier run beside this grid
     std::filesystem::remove(out + "/critical_step.csv", error);

@@ -69,6 +69,41 @@ inline double positiveNumber(const char* tool, const std::string& option, const 
   return v;
 }
 
+// A positive whole number, or one error line and exit 2.
+inline int positiveInteger(const char* tool, const std::string& option, const char* text) {
+  char* end = nullptr;
+  const long v = std::strtol(text, &end, 10);
+  if (end == text || *end != '\0' || v < 1 || v > 1000000) {
+    std::fprintf(stderr, "%s: %s expects a positive whole number, got '%s'\n", tool, option.c_str(),
+                 text);
+    std::exit(2);
+  }
+  return static_cast<int>(v);
+}
+
+// Every name in `chosen` must be one of `known`; otherwise one error line and exit 2.
+inline void requireKnown(const char* tool, const char* what, const std::vector<std::string>& chosen,
+                         const std::vector<std::string>& known) {
+  for (const std::string& name : chosen) {
+    if (std::find(known.begin(), known.end(), name) != known.end()) continue;
+    std::string list;
+    for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+    std::fprintf(stderr, "%s: unknown %s '%s' (expected one of %s)\n", tool, what, name.c_str(),
+                 list.c_str());
+    std::exit(2);
+  }
+}
+
+// Keeps the names of `list` that `chosen` names (all when it is empty); an unknown name is
+// one error line and exit 2.
+inline void keepOnly(const char* tool, const char* what, std::vector<std::string>& list,
+                     const std::vector<std::string>& chosen) {
+  requireKnown(tool, what, chosen, list);
+  list.erase(std::remove_if(list.begin(), list.end(),
+                            [&](const std::string& n) { return !selected(chosen, n); }),
+             list.end());
+}
+
 // The names makeElasticModel knows ("edge_length, edge_length_literal, ...").
 inline std::vector<std::string> elasticModelNames() {
   std::vector<std::string> names;

@@ -233,6 +233,9 @@ std::vector<std::unique_ptr<Problem>> makeProblems(const Options& o) {
   all.push_back(std::move(beam));
   all.push_back(std::move(spindle));
   all.push_back(std::make_unique<PatchTest>());
+  std::vector<std::string> names = {"cantilever_static_mesh"};  // the mesh-refinement runs
+  for (const auto& p : all) names.push_back(p->name);
+  bench::requireKnown("bench_work_precision", "problem", o.problems, names);
   std::vector<std::unique_ptr<Problem>> chosen;
   for (auto& p : all)
     if (bench::selected(o.problems, p->name)) chosen.push_back(std::move(p));
@@ -256,9 +259,8 @@ int main(int argc, char** argv) {
   const Options options = parseOptions(argc, argv);
   setThreadCount(1);
   std::filesystem::create_directories(options.out);
-  std::vector<std::string> models;
-  for (const std::string& m : bench::elasticModelNames())
-    if (bench::selected(options.models, m)) models.push_back(m);
+  std::vector<std::string> models = bench::elasticModelNames();
+  bench::keepOnly("bench_work_precision", "model", models, options.models);
 
   auto problems = makeProblems(options);
   for (auto& p : problems) {

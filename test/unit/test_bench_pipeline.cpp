@@ -9,9 +9,11 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "csv_test_util.h"
@@ -187,6 +189,28 @@ TEST_F(BenchPipeline, StabilitySweepCriticalStepAndExtremeCases) {
   }
   EXPECT_EQ(cases, (std::set<std::string>{"compression_80pct", "forced_inversion", "twist_180deg",
                                           "impact_20m_per_s", "sliver_elements"}));
+}
+
+// A misspelt name or a bad count is one error line naming it and exit 2, not a run that
+// silently leaves the name out.
+TEST(BenchCommandLine, UnknownNamesAndBadValuesAreOneErrorLine) {
+  fs::create_directories(outputDir());
+  const std::string out = " --out " + (outputDir() / "bad_input").string();
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {std::string(TT_BENCH_WORK_PRECISION_PATH) + " --models edge_lenght", "'edge_lenght'"},
+      {std::string(TT_BENCH_WORK_PRECISION_PATH) + " --problems patch,cantilever", "'cantilever'"},
+      {std::string(TT_BENCH_WORK_PRECISION_PATH) + " --time-limit 0", "'0'"},
+      {std::string(TT_BENCH_STABILITY_SWEEP_PATH) + " --integrators rk4", "'rk4'"},
+      {std::string(TT_BENCH_STABILITY_SWEEP_PATH) + " --models tensormass", "'tensormass'"}};
+  for (const auto& [command, named] : cases) {
+    EXPECT_EQ(run(command + out, "bad_input.log"), 2) << command;
+    std::ifstream log(outputDir() / "bad_input.log");
+    std::vector<std::string> lines;
+    for (std::string line; std::getline(log, line);) lines.push_back(line);
+    ASSERT_EQ(lines.size(), 1u) << command;
+    EXPECT_NE(lines[0].find(named), std::string::npos) << lines[0];
+    EXPECT_NE(lines[0].find("expect"), std::string::npos) << lines[0];
+  }
 }
 
 }  // namespace
