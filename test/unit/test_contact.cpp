@@ -146,6 +146,28 @@ TEST(Contact, NoContactGivesZeroForceAndStiffness) {
   EXPECT_FALSE(contact.update().inContact);
 }
 
+// Far from the tissue the Bullet query is skipped (the boxes do not meet); a tissue that
+// moved meanwhile is met where it is now, not where the last query saw it.
+TEST(Contact, TissueThatMovedWhileTheToolWasFarIsMetWhereItIsNow) {
+  System s = block();
+  TissueContact contact(s, settings(), {sphere(0.005)});
+  const Eigen::Vector3d centre = topIncentre(s, 0.02);
+  const Eigen::Vector3d far = centre + Eigen::Vector3d(0, 0.1, 0);
+  contact.setTool(at(far), {at(far)}, 1.0, 0.0);
+  EXPECT_FALSE(contact.update().inContact);
+  const double lift = 0.003;
+  for (int a = 0; a < s.numNodes(); ++a) s.state.x[3 * a + 1] += lift;
+  EXPECT_FALSE(contact.update().inContact);
+  const double depth = 0.001;
+  const Eigen::Vector3d tip = centre + Eigen::Vector3d(0, lift + 0.005 - depth, 0);
+  contact.setTool(at(tip), {at(tip)}, 1.0, 0.1);
+  const ContactResult& r = contact.update();
+  ASSERT_TRUE(r.inContact);
+  ASSERT_EQ(r.points.size(), 1u);
+  EXPECT_NEAR(r.points[0].depth, depth, 1e-6);
+  EXPECT_NEAR(r.f0.y(), 300.0 * depth, 1e-3 * 300.0 * depth);
+}
+
 TEST(Contact, ForceOnTissueIsMinusForceOnTool) {
   System s = block();
   ContactSettings c = settings();

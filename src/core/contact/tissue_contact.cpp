@@ -135,6 +135,44 @@ struct TissueContact::Bullet {
       lo.setMin(p);
       hi.setMax(p);
     }
+    refit(lo, hi);
+    return true;
+  }
+
+  // True when a tool shape's box (with its margin) meets the box of the nodes: only then can
+  // Bullet find a contact, and only then are the tree refit and the pair tests worth running.
+  bool anyShapeNear(const Eigen::VectorXd& x, const std::vector<Eigen::Isometry3d>& poses) const {
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(HUGE_VAL), hi = -lo;
+    for (Eigen::Index i = 0; i < x.size(); i += 3) {
+      lo = lo.cwiseMin(x.segment<3>(i));
+      hi = hi.cwiseMax(x.segment<3>(i));
+    }
+    const btVector3 pad(kNearPad, kNearPad, kNearPad);
+    const btVector3 tissueLo = toBullet(lo) - pad, tissueHi = toBullet(hi) + pad;
+    for (size_t k = 0; k < toolShapes.size(); ++k) {
+      btVector3 toolLo, toolHi;
+      toolShapes[k]->getAabb(toBullet(poses[k]), toolLo, toolHi);
+      if (TestAabbAgainstAabb2(toolLo, toolHi, tissueLo, tissueHi)) return true;
+    }
+    return false;
+  }
+
+  // Bullet's contact points of each tool shape (at `poses`) with the tissue surface.
+  void findContacts(const std::vector<Eigen::Isometry3d>& poses, std::vector<ContactPoint>& found) {
+    for (size_t k = 0; k < toolObjects.size(); ++k) {
+      toolObjects[k]->setWorldTransform(toBullet(poses[k]));
+      Collector collector;
+      collector.tissue = &tissue;
+      collector.shape = static_cast<int>(k);
+      collector.out = &found;
+      world.contactPairTest(toolObjects[k].get(), &tissue, collector);
+    }
+  }
+
+ private:
+  static constexpr btScalar kNearPad = 0.1f;  // 1 mm, in Bullet units
+
+  void refit(const btVector3& lo, const btVector3& hi) {
     const btVector3 pad(1.0, 1.0, 1.0);  // 1 cm around the quantisation box
     if (meshShape) {
       meshShape->refitTree(lo - pad, hi + pad);
@@ -144,7 +182,6 @@ struct TissueContact::Bullet {
       meshShape->setMargin(0.0);
       tissue.setCollisionShape(meshShape.get());
     }
-    return true;
   }
 };
 
@@ -265,7 +302,7 @@ const ContactResult& TissueContact::update() {
   const std::vector<ContactPoint> previous = std::move(result_.points);
   result_ = ContactResult{};
   const Eigen::VectorXd& x = system_.state.x;
-  if (!haveTool_ || !bullet_->setPositions(x)) {
+  if (!haveTool_ || !x.allFinite()) {
     graspNodes_.clear();
     graspOffsets_.clear();
     jawClosed_ = false;
@@ -286,13 +323,9 @@ const ContactResult& TissueContact::update() {
 
   Bullet& b = *bullet_;
   std::vector<ContactPoint> found;
-  for (size_t k = 0; k < shapes_.size(); ++k) {
-    b.toolObjects[k]->setWorldTransform(toBullet(shapePoses_[k]));
-    Collector collector;
-    collector.tissue = &b.tissue;
-    collector.shape = static_cast<int>(k);
-    collector.out = &found;
-    b.world.contactPairTest(b.toolObjects[k].get(), &b.tissue, collector);
+  if (b.anyShapeNear(x, shapePoses_)) {
+    b.setPositions(x);
+    b.findContacts(shapePoses_, found);
   }
 
   // Classify: a face contact has Bullet's normal along the triangle's outward normal; an
@@ -355,8 +388,10 @@ const ContactResult& TissueContact::update() {
     result_.points.push_back(q);
   }
 
-  result_.f0 = model_->toolForce(x, system_.state.v);
-  result_.K = model_->toolStiffness(x);
+  if (!model_->penalties.empty() || !model_->springs.empty()) {
+    result_.f0 = model_->toolForce(x, system_.state.v);
+    result_.K = model_->toolStiffness(x);
+  }
   result_.graspedNodes = graspNodes_;
   result_.grasping = !graspNodes_.empty();
   if (!result_.f0.allFinite() || !result_.K.allFinite()) {
