@@ -227,6 +227,32 @@ TEST(RadauIIA, FixedStepGlobalErrorIsOfOrderFive) {
   EXPECT_NEAR(order, 5.0, 0.5);
 }
 
+// The stability guard's retries: fixed steps are `divisor` times shorter, and the error falls
+// as for steps set that short.
+TEST(RadauIIA, StepDivisorShortensTheFixedSteps) {
+  RadauOptions options;
+  options.adaptive = false;
+  options.absTol = options.relTol = 1e-14;
+  options.initialStep = 0.5;
+  const auto run = [&](int divisor, StepReport& report) {
+    auto system = springSystem(1, 2.0, 2.0, 0.0, 0.0);
+    system->state.x += Eigen::Vector3d(0.3, -0.2, 0.1);
+    RadauIIA radau(options);
+    radau.setStepDivisor(divisor);
+    report = radau.advance(*system, 2.0);
+    return system->state.x;
+  };
+  StepReport plain, divided, restored;
+  const Eigen::VectorXd x1 = run(1, plain), x4 = run(4, divided), x1again = run(1, restored);
+  EXPECT_EQ(plain.substeps, 4);
+  EXPECT_EQ(divided.substeps, 16);
+  EXPECT_EQ(restored.substeps, 4);
+  EXPECT_EQ(x1, x1again);
+  options.initialStep = 0.125;
+  StepReport set;
+  EXPECT_EQ(run(1, set), x4);  // the same steps as when set that short
+}
+
 TEST(RadauIIA, AdaptiveErrorTracksTheTolerance) {
   std::vector<double> tolerances, errors;
   for (double tol : {1e-4, 1e-6, 1e-8, 1e-10}) {

@@ -222,6 +222,35 @@ TEST(StabilityGuard, NonFiniteExternalForceIsUnrecoverableAndRestoresTheState) {
   EXPECT_EQ(guard.stats().failures, 1);
 }
 
+// An integrator that reports success while its state is not finite: the guard does not trust
+// the report. It steps backward Euler, then spoils one velocity while the step is longer than
+// 2 ms, so that halving the frame (5 ms, 2.5 ms, 1.25 ms pieces) recovers it.
+class SpoilsLongSteps : public Integrator {
+ public:
+  const char* name() const override { return "spoils_long_steps"; }
+  bool needsStiffness() const override { return true; }
+  StepReport advance(System& system, double frameTime) override {
+    StepReport r = inner_.advance(system, frameTime);
+    if (frameTime > 2e-3) system.state.v[3 * 20 + 2] = std::numeric_limits<double>::infinity();
+    return r;
+  }
+
+ private:
+  BackwardEulerIntegrator inner_;
+};
+
+TEST(StabilityGuard, NonFiniteStateIsCaughtEvenWhenTheIntegratorReportsSuccess) {
+  auto s = stiffBlock();
+  StabilityGuard guard(std::make_unique<SpoilsLongSteps>());
+  const StepReport r = guard.advance(*s, kFrame);
+  EXPECT_TRUE(r.ok) << r.failure;
+  EXPECT_EQ(r.halvings, 3);  // 10 ms, 5 ms and 2.5 ms pieces spoilt; 1.25 ms ones not
+  EXPECT_NE(r.guardReason.find("non-finite velocity at DOF 62 (node 20 z)"), std::string::npos)
+      << r.guardReason;
+  EXPECT_TRUE(s->state.x.allFinite() && s->state.v.allFinite());
+  EXPECT_NEAR(s->state.t, kFrame, 1e-15);
+}
+
 TEST(StabilityGuard, NoHalvingsAllowedFailsAtOnceWithTheCheckAndRestores) {
   // Within its first frame the symplectic step (h = 10 ms) multiplies the energy, finite.
   auto s = stiffBlock();

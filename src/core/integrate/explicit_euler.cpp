@@ -7,7 +7,7 @@ namespace tt {
 StepReport ExplicitEulerIntegrator::advance(System& system, double frameTime) {
   StepReport report;
   detail::FrameGuard guard(system.state);
-  const int n = detail::equalSubsteps(frameTime, params.substep / stepDivisor_);
+  const int n = detail::equalSubsteps(frameTime, currentStep(params.substep));
   const double h = frameTime / n;
   State& s = system.state;
   for (int i = 0; i < n; ++i) {

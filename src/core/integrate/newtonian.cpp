@@ -73,7 +73,7 @@ void NewtonianIntegrator::freezeLowForceNodes(const System& system) {
 StepReport NewtonianIntegrator::advance(System& system, double frameTime) {
   StepReport report;
   detail::FrameGuard guard(system.state);
-  const int n = detail::equalSubsteps(frameTime, params.substep / stepDivisor_);
+  const int n = detail::equalSubsteps(frameTime, currentStep(params.substep));
   const double h = frameTime / n;
   if (!continuesFrom(system.state)) start(system, h);
   const Eigen::VectorXd startPrevious = previousX_;

@@ -583,7 +583,7 @@ StepReport RadauIIA::advance(System& system, double frameTime) {
   bool needJacobian = true, freshJacobian = false;
   double h = w.nextStep > 0.0 ? w.nextStep : opt.initialStep;
   const int fixedSteps =
-      opt.adaptive ? 0 : std::max(1, static_cast<int>(std::ceil(frameTime / opt.initialStep - 1e-9)));
+      opt.adaptive ? 0 : std::max(1, static_cast<int>(std::ceil(frameTime / currentStep(opt.initialStep) - 1e-9)));
   if (!opt.adaptive) h = frameTime / fixedSteps;
   double maxError = 0.0;
   int attempts = 0;

@@ -24,13 +24,11 @@ class ExplicitEulerIntegrator : public Integrator {
     return params.symplectic ? "symplectic_euler" : "explicit_euler";
   }
   StepReport advance(System& system, double frameTime) override;
-  void setStepDivisor(int divisor) override { stepDivisor_ = divisor; }
 
   ExplicitEulerParams params;
 
  private:
   Eigen::VectorXd force_;
-  int stepDivisor_ = 1;
 };
 
 }  // namespace tt

@@ -34,8 +34,15 @@ class Integrator {
   virtual StepReport advance(System& system, double frameTime) = 0;
   // For the stability guard's retries: integrators that cut a frame into steps of a set
   // length make those steps `divisor` times shorter (1 restores the set length). The others
-  // take their steps from the frame time, which the guard already cuts, and ignore it.
-  virtual void setStepDivisor(int /*divisor*/) {}
+  // take their steps from the frame time, which the guard already cuts.
+  void setStepDivisor(int divisor) { stepDivisor_ = divisor; }
+
+ protected:
+  // A set step length as the integrator is to take it now (shortened by the divisor).
+  double currentStep(double setLength) const { return setLength / stepDivisor_; }
+
+ private:
+  int stepDivisor_ = 1;
 };
 
 }  // namespace tt

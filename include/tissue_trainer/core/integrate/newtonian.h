@@ -47,7 +47,6 @@ class NewtonianIntegrator : public Integrator {
   explicit NewtonianIntegrator(NewtonianParams params = {}) : params(params) {}
   const char* name() const override { return "newtonian"; }
   StepReport advance(System& system, double frameTime) override;
-  void setStepDivisor(int divisor) override { stepDivisor_ = divisor; }
 
   // Forgets the previous position: the next step starts from the state's x and v.
   void restart() { hasHistory_ = false; }
@@ -69,7 +68,6 @@ class NewtonianIntegrator : public Integrator {
   Eigen::VectorXd previousX_;  // position one step back
   double previousStep_ = 0.0;
   long frozenNodeSteps_ = 0;
-  int stepDivisor_ = 1;
   State last_;                 // the state this integrator left behind
   Eigen::VectorXd force_, nextX_;
   std::vector<int> frozen_;

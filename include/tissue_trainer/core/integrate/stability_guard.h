@@ -10,9 +10,9 @@
 // A frame that fails a check (or that the wrapped integrator reports failed) is rolled back
 // and done again in 2 equal pieces, then in 4, ..., down to 2^maxHalvings pieces, until an
 // attempt passes; integrators with a set step length shorten it by the same factor
-// (Integrator::setStepDivisor), so every halving halves the step. The checks run after every
-// piece and an attempt passes only as a whole: an unstable first step can look harmless and
-// only shows in the steps after it. The following frames start with the step that passed
+// (Integrator::setStepDivisor: the explicit schemes and fixed-step Radau IIA), so every halving
+// halves the step. The checks run after every piece and an attempt passes only as a whole: an
+// unstable first step can look harmless and only shows in the steps after it. The following frames start with the step that passed
 // (an instability near equilibrium grows from a tiny seed and would show only frames later);
 // after relaxAfter frames that pass at once the guard tries a step twice as long again. When
 // the last attempt fails too, or the external force is not finite, the frame's initial state
