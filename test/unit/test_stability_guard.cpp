@@ -6,6 +6,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -134,6 +135,40 @@ TEST(StabilityGuard, HalvesExplicitStepsUntilStableAndFollowsASmallStepRun) {
     EXPECT_LT(error, 0.25 * sag) << guard.name() << " against steps of 1 us";
     EXPECT_LT((s->state.x - reference->state.x).cwiseAbs().maxCoeff(), 0.02 * sag) << guard.name();
   }
+}
+
+// One symplectic step per frame, 10 % above the limit: the top mode gains about 4.4x a step,
+// less than the 10x a frame allows, so only the excess carried over frames shows it (its
+// message names the frames it was carried over).
+TEST(StabilityGuard, SlowGrowthOverManyFramesIsCaughtByTheCarriedExcess) {
+  const ExplicitCase c = explicitCase(true);
+  const double h = 1.1 * c.criticalStep;
+  const int frames = 300;
+  // The largest |kinetic + elastic + gravity energy| over the frames; infinite once a frame fails.
+  const auto largestEnergy = [&](Integrator& integrator, System& s) {
+    double largest = 0.0;
+    for (int f = 0; f < frames; ++f) {
+      if (!integrator.advance(s, h).ok) return std::numeric_limits<double>::infinity();
+      largest = std::max(largest, std::abs(s.kineticEnergy(s.state.v) + s.potentialEnergy(s.state.x)));
+    }
+    return largest;
+  };
+  auto bare = stiffBlock(c.rayleigh), guarded = stiffBlock(c.rayleigh), fine = stiffBlock(c.rayleigh);
+  ExplicitEulerIntegrator plain(ExplicitEulerParams{h, true});
+  StabilityGuard guard(std::make_unique<ExplicitEulerIntegrator>(ExplicitEulerParams{h, true}));
+  ExplicitEulerIntegrator quarter(ExplicitEulerParams{h / 4, true});
+  const double bareLargest = largestEnergy(plain, *bare);
+  const double guardedLargest = largestEnergy(guard, *guarded);
+  const double fineLargest = largestEnergy(quarter, *fine);
+  std::printf("  largest |energy| over %d frames of %.3g s: bare %.3g J, guarded %.3g J, steps of "
+              "h/4 %.3g J; guard halvings %ld\n",
+              frames, h, bareLargest, guardedLargest, fineLargest, guard.stats().halvings);
+  EXPECT_GT(bareLargest, 1e3 * fineLargest);  // the bare run blows up (or fails)
+  EXPECT_LT(guardedLargest, 1.1 * fineLargest);
+  EXPECT_GT(guard.stats().halvings, 0);
+  EXPECT_EQ(guard.stats().failures, 0);
+  EXPECT_NE(guard.stats().lastReason.find("over the last"), std::string::npos)
+      << guard.stats().lastReason;
 }
 
 TEST(StabilityGuard, LaterFramesKeepTheShorterStepAndTryALongerOneAfterRelaxAfterFrames) {

@@ -21,10 +21,15 @@ double signedVolume(const Eigen::VectorXd& x, const Tet& t) {
   return d1.dot(d2.cross(d3)) / 6.0;
 }
 
+// The share of the carried sums that the next frame keeps: they forget in about 100 frames, so
+// that the energy swing of a stable step does not add up over a session, while a growing mode
+// outgrows the loss.
+constexpr double kCarriedKeeps = 0.99;
+
 std::string format(const char* pattern, double a, double b = 0.0, double c = 0.0,
-                   double d = 0.0) {
-  char text[256];
-  std::snprintf(text, sizeof text, pattern, a, b, c, d);
+                   double d = 0.0, double e = 0.0) {
+  char text[320];
+  std::snprintf(text, sizeof text, pattern, a, b, c, d, e);
   return text;
 }
 
@@ -85,6 +90,7 @@ StepReport StabilityGuard::advance(System& system, double frameTime) {
       const std::string problem = attempt(system, frameTime, depth, work);
       addWork(report, work, problem.empty());
       if (problem.empty()) {
+        carryExcess();
         keepDepth(depth, report.halvings > 0);
         measured_ = system.state;  // where end_ was measured
         break;
@@ -96,6 +102,7 @@ StepReport StabilityGuard::advance(System& system, double frameTime) {
                          std::to_string(depth) + " halvings (steps of 1/" +
                          std::to_string(1 << depth) + "); state restored";
         report.ok = false;
+        forgetCarried();  // a failure that only the carried excess made passes again in time
         break;
       }
       ++report.halvings;
@@ -141,6 +148,7 @@ void StabilityGuard::startFrame(const System& system) {
     measureLoads(system, frameBalance_);
   } else {
     measure(system, frameBalance_);
+    carried_ = {};  // the state was changed from outside: the excess restarts
   }
   measured_.t = std::numeric_limits<double>::quiet_NaN();  // end_ is about to change
   loadForce_ = system.externalForce;
@@ -234,10 +242,40 @@ std::string StabilityGuard::checkEnergy(const System& system, double lastStep) {
   const double scale = std::max({startEnergy, std::abs(flows_.work),
                                  std::abs(end_.body - b0.body), loadRate_ * lastStep * lastStep});
   const double budget = (params_.energyGrowth - 1.0) * scale + params_.energySlack;
-  if (excess <= budget) return {};
-  return format("energy grew by %.3g J more than the work done on the system (budget %.3g J; "
-                "kinetic + elastic %.3g J at the frame's start, %.3g J after)",
-                excess, budget, startEnergy, endEnergy);
+  if (excess > budget)
+    return format("energy grew by %.3g J more than the work done on the system (budget %.3g J; "
+                  "kinetic + elastic %.3g J at the frame's start, %.3g J after)",
+                  excess, budget, startEnergy, endEnergy);
+  frame_.excess = excess;
+  frame_.work = std::abs(flows_.work);
+  frame_.bodyChange = std::abs(end_.body - b0.body);
+  frame_.startEnergy = startEnergy;
+  if (carried_.excess <= 0.0) return {};
+  const double carried = carried_.excess + excess;
+  const double carriedScale =
+      std::max({carried_.startEnergy, carried_.work + frame_.work,
+                carried_.bodyChange + frame_.bodyChange, loadRate_ * lastStep * lastStep});
+  const double carriedBudget = (params_.energyGrowth - 1.0) * carriedScale + params_.energySlack;
+  if (carried <= carriedBudget) return {};
+  return format("energy grew by %.3g J more than the work done on the system over the last %.0f "
+                "frames (budget %.3g J; kinetic + elastic %.3g J when the growth began, %.3g J now)",
+                carried, carried_.frames + 1.0, carriedBudget, carried_.startEnergy, endEnergy);
+}
+
+void StabilityGuard::carryExcess() {
+  if (carried_.excess <= 0.0) carried_ = {0.0, 0.0, 0.0, frame_.startEnergy, 0};
+  forgetCarried();
+  carried_.excess += frame_.excess;
+  carried_.work += frame_.work;
+  carried_.bodyChange += frame_.bodyChange;
+  ++carried_.frames;
+  if (carried_.excess <= 0.0) carried_ = {};
+}
+
+void StabilityGuard::forgetCarried() {
+  carried_.excess *= kCarriedKeeps;
+  carried_.work *= kCarriedKeeps;
+  carried_.bodyChange *= kCarriedKeeps;
 }
 
 void StabilityGuard::measure(const System& system, Balance& b) {
