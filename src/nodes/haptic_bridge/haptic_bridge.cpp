@@ -41,14 +41,16 @@ diagnostic_msgs::KeyValue keyValue(const std::string& key, double value) {
 class RosStamper {
  public:
   ros::Time stampOf(double monotonicTime) {
-    for (int attempt = 0; attempt < (known_ ? 1 : kFirstAttempts); ++attempt) {
+    const int attempts = known_ ? 1 : kFirstAttempts;  // the first offset is taken in any case
+    for (int i = 1; i <= attempts; ++i) {
       const double before = monotonicSeconds();
       const double rosNow = ros::Time::now().toSec();
       const double after = monotonicSeconds();
-      if (after - before > kMaxReadSeconds && (known_ || attempt + 1 < kFirstAttempts)) continue;
-      offset_ = rosNow - 0.5 * (before + after);
-      known_ = true;
-      break;
+      if (after - before <= kMaxReadSeconds || (!known_ && i == attempts)) {
+        offset_ = rosNow - 0.5 * (before + after);
+        known_ = true;
+        break;
+      }
     }
     const double t = monotonicTime + offset_;
     return t > 0.0 ? ros::Time(t) : ros::Time::now();

@@ -12,12 +12,12 @@
 // attempt passes; integrators with a set step length shorten it by the same factor
 // (Integrator::setStepDivisor: the explicit schemes and fixed-step Radau IIA), so every halving
 // halves the step. The checks run after every piece and an attempt passes only as a whole: an
-// unstable first step can look harmless and only shows in the steps after it. The following frames start with the step that passed
-// (an instability near equilibrium grows from a tiny seed and would show only frames later);
-// after relaxAfter frames that pass at once the guard tries a step twice as long again. When
-// the last attempt fails too, or the external force is not finite, the frame's initial state
-// is restored and the report says ok = false, which check failed, on which element or DOF and
-// in which time interval.
+// unstable first step can look harmless and only shows in the steps after it. The following
+// frames start with the step that passed (an instability near equilibrium grows from a tiny
+// seed and would show only frames later); after relaxAfter frames that pass at once the guard
+// tries a step twice as long again. When the last attempt fails too, or the external force is
+// not finite, the frame's initial state is restored and the report says ok = false, which
+// check failed, on which element or DOF and in which time interval.
 //
 // Energy balance from the frame's start t0 to the end t1 of each piece: E = kinetic energy of
 // the free DOFs + the energy of the models that have one (elastic, gravity). W = work done by
