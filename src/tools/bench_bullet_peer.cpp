@@ -408,7 +408,6 @@ int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
   const Options o = parseOptions(argc, argv);
   setThreadCount(1);
-  std::filesystem::create_directories(o.out);
 
   std::vector<std::unique_ptr<Problem>> problems;
   problems.push_back(std::make_unique<CantileverStatic>());
@@ -422,6 +421,7 @@ int main(int argc, char** argv) {
   problems.erase(std::remove_if(problems.begin(), problems.end(),
                                 [&](const auto& p) { return !bench::selected(o.problems, p->name); }),
                  problems.end());
+  std::filesystem::create_directories(o.out);  // after the names were checked
 
   const std::string csvPath = o.out + "/bullet_peer.csv";
   FILE* csv = std::fopen(csvPath.c_str(), "w");

@@ -258,11 +258,11 @@ int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
   const Options options = parseOptions(argc, argv);
   setThreadCount(1);
-  std::filesystem::create_directories(options.out);
   std::vector<std::string> models = bench::elasticModelNames();
   bench::keepOnly("bench_work_precision", "model", models, options.models);
+  auto problems = makeProblems(options);  // names checked before anything is written
+  std::filesystem::create_directories(options.out);
 
-  auto problems = makeProblems(options);
   for (auto& p : problems) {
     const double wall0 = bench::wallSeconds();
     p->prepare(models);

@@ -196,12 +196,16 @@ TEST_F(BenchPipeline, StabilitySweepCriticalStepAndExtremeCases) {
 TEST(BenchCommandLine, UnknownNamesAndBadValuesAreOneErrorLine) {
   fs::create_directories(outputDir());
   const std::string out = " --out " + (outputDir() / "bad_input").string();
-  const std::vector<std::pair<std::string, std::string>> cases = {
+  std::vector<std::pair<std::string, std::string>> cases = {
       {std::string(TT_BENCH_WORK_PRECISION_PATH) + " --models edge_lenght", "'edge_lenght'"},
       {std::string(TT_BENCH_WORK_PRECISION_PATH) + " --problems patch,cantilever", "'cantilever'"},
       {std::string(TT_BENCH_WORK_PRECISION_PATH) + " --time-limit 0", "'0'"},
       {std::string(TT_BENCH_STABILITY_SWEEP_PATH) + " --integrators rk4", "'rk4'"},
       {std::string(TT_BENCH_STABILITY_SWEEP_PATH) + " --models tensormass", "'tensormass'"}};
+#ifdef TT_BENCH_BULLET_PEER_PATH
+  cases.push_back({std::string(TT_BENCH_BULLET_PEER_PATH) + " --problems patch", "'patch'"});
+  cases.push_back({std::string(TT_BENCH_BULLET_PEER_PATH) + " --bullet-newton 2.5", "'2.5'"});
+#endif
   for (const auto& [command, named] : cases) {
     EXPECT_EQ(run(command + out, "bad_input.log"), 2) << command;
     std::ifstream log(outputDir() / "bad_input.log");

@@ -124,10 +124,8 @@ struct TissueContact::Bullet {
   std::vector<std::unique_ptr<btCollisionShape>> toolShapes;
   std::vector<std::unique_ptr<btCollisionObject>> toolObjects;
 
-  // Writes the deformed positions (scaled) and refits the tree; returns false when a
-  // position is not finite.
-  bool setPositions(const Eigen::VectorXd& x) {
-    if (!x.allFinite()) return false;
+  // Writes the deformed positions (scaled, finite) and refits the tree.
+  void setPositions(const Eigen::VectorXd& x) {
     btVector3 lo(BT_LARGE_FLOAT, BT_LARGE_FLOAT, BT_LARGE_FLOAT), hi = -lo;
     for (Eigen::Index i = 0; i < x.size(); i += 3) {
       const btVector3 p = toBullet(Eigen::Vector3d(x.segment<3>(i)));
@@ -136,7 +134,6 @@ struct TissueContact::Bullet {
       hi.setMax(p);
     }
     refit(lo, hi);
-    return true;
   }
 
   // True when a tool shape's box (with its margin) meets the box of the nodes: only then can

@@ -102,7 +102,11 @@ StepReport StabilityGuard::advance(System& system, double frameTime) {
                          std::to_string(depth) + " halvings (steps of 1/" +
                          std::to_string(1 << depth) + "); state restored";
         report.ok = false;
-        forgetCarried();  // a failure that only the carried excess made passes again in time
+        // The restored state is where frameBalance_ was measured: the next frame continues
+        // from it, carried sum included, which forgets a little even so.
+        measured_ = frameStart_;
+        end_ = frameBalance_;
+        forgetCarried();
         break;
       }
       ++report.halvings;
@@ -250,11 +254,14 @@ std::string StabilityGuard::checkEnergy(const System& system, double lastStep) {
   frame_.work = std::abs(flows_.work);
   frame_.bodyChange = std::abs(end_.body - b0.body);
   frame_.startEnergy = startEnergy;
-  if (carried_.excess <= 0.0) return {};
-  const double carried = carried_.excess + excess;
-  const double carriedScale =
-      std::max({carried_.startEnergy, carried_.work + frame_.work,
-                carried_.bodyChange + frame_.bodyChange, loadRate_ * lastStep * lastStep});
+  frame_.kick = loadRate_ * lastStep * lastStep;
+  // A frame that adds nothing passes: no halving of it can undo what the frames before did.
+  if (carried_.excess <= 0.0 || excess <= 0.0) return {};
+  const double carried = kCarriedKeeps * carried_.excess + excess;
+  const double carriedScale = std::max({carried_.startEnergy,
+                                        kCarriedKeeps * carried_.work + frame_.work,
+                                        kCarriedKeeps * carried_.bodyChange + frame_.bodyChange,
+                                        std::max(carried_.kick, frame_.kick)});
   const double carriedBudget = (params_.energyGrowth - 1.0) * carriedScale + params_.energySlack;
   if (carried <= carriedBudget) return {};
   return format("energy grew by %.3g J more than the work done on the system over the last %.0f "
@@ -263,11 +270,12 @@ std::string StabilityGuard::checkEnergy(const System& system, double lastStep) {
 }
 
 void StabilityGuard::carryExcess() {
-  if (carried_.excess <= 0.0) carried_ = {0.0, 0.0, 0.0, frame_.startEnergy, 0};
+  if (carried_.excess <= 0.0) carried_ = {0.0, 0.0, 0.0, frame_.startEnergy, 0.0, 0};
   forgetCarried();
   carried_.excess += frame_.excess;
   carried_.work += frame_.work;
   carried_.bodyChange += frame_.bodyChange;
+  carried_.kick = std::max(carried_.kick, frame_.kick);
   ++carried_.frames;
   if (carried_.excess <= 0.0) carried_ = {};
 }

@@ -37,7 +37,10 @@ diagnostic_msgs::KeyValue keyValue(const std::string& key, double value) {
 
 // Turns the loop's monotonic times into ROS times (wall or simulated). The offset between the
 // two clocks is read between two monotonic reads; a read that the thread was preempted in keeps
-// the previous offset, so that a preemption never shows in the stamps as a step back in time.
+// the previous offset, so that a preemption does not show in the stamps. What is left (the
+// offset's jitter within a read, under 50 us) never steps a stamp back: a stamp up to 1 ms
+// before the previous one is taken as equal to it (a larger step back is the ROS clock's own,
+// such as a replayed bag starting again).
 class RosStamper {
  public:
   ros::Time stampOf(double monotonicTime) {
@@ -52,14 +55,18 @@ class RosStamper {
         break;
       }
     }
-    const double t = monotonicTime + offset_;
+    double t = monotonicTime + offset_;
+    if (t < last_ && last_ - t < kMaxJitterSeconds) t = last_;
+    last_ = t;
     return t > 0.0 ? ros::Time(t) : ros::Time::now();
   }
 
  private:
+  static constexpr double kMaxJitterSeconds = 1e-3;
   static constexpr double kMaxReadSeconds = 50e-6;
   static constexpr int kFirstAttempts = 20;
   double offset_ = 0.0;
+  double last_ = 0.0;
   bool known_ = false;
 };
 

@@ -2,8 +2,10 @@
 #include <ros/ros.h>
 #include <ros/xmlrpc_manager.h>
 
+#include <atomic>
 #include <csignal>
 #include <exception>
+#include <string>
 
 #include "../common/param_reader.h"
 #include "bridge_params.h"
@@ -11,14 +13,19 @@
 
 namespace {
 
-volatile std::sig_atomic_t g_stopRequested = 0;
+std::atomic<bool> g_stopRequested{false};  // lock-free: set from a signal handler and XML-RPC
 
-void requestStop(int) { g_stopRequested = 1; }
+void requestStop(int) { g_stopRequested = true; }
 
 // `rosnode kill` and the master ask a node to shut down over XML-RPC; roscpp alone would end
 // the node at once with the force still on. Taken like SIGINT: the force fades out first.
-void onShutdownRequest(XmlRpc::XmlRpcValue&, XmlRpc::XmlRpcValue& result) {
-  g_stopRequested = 1;
+void onShutdownRequest(XmlRpc::XmlRpcValue& params, XmlRpc::XmlRpcValue& result) {
+  std::string reason = "no reason given";
+  if (params.getType() == XmlRpc::XmlRpcValue::TypeArray && params.size() > 1 &&
+      params[1].getType() == XmlRpc::XmlRpcValue::TypeString)
+    reason = static_cast<std::string>(params[1]);
+  ROS_WARN("haptic_bridge: shutdown requested (%s): fading the force out", reason.c_str());
+  g_stopRequested = true;
   result = ros::xmlrpc::responseInt(1, "", 0);
 }
 
@@ -32,7 +39,9 @@ int main(int argc, char** argv) {
   std::signal(SIGTERM, requestStop);
   ros::NodeHandle nh;  // starts the node, which binds roscpp's own shutdown: replaced here
   ros::XMLRPCManager::instance()->unbind("shutdown");
-  ros::XMLRPCManager::instance()->bind("shutdown", onShutdownRequest);
+  if (!ros::XMLRPCManager::instance()->bind("shutdown", onShutdownRequest))
+    ROS_WARN("haptic_bridge: could not take the shutdown request over; rosnode kill would end "
+             "the node without the fade (SIGINT and SIGTERM still fade)");
   ros::NodeHandle privateNh("~");
   tt_nodes::BridgeParams params;
   try {

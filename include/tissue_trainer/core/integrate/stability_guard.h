@@ -37,13 +37,13 @@
 // frame that passes adds its excess E1 - E0 - W - D to a sum that keeps 99 % of itself from
 // frame to frame (it forgets in about 100 frames, so that the energy swing of a stable step
 // does not add up over a session) and restarts at zero when it falls to zero or below
-// (numerical dissipation earns no credit). A frame fails when the sum with its own excess
-// exceeds (energyGrowth - 1) * max(S, sum |W|, sum |dB|, L h^2) + energySlack, with S the
-// kinetic + elastic energy where the sum last started and the sums kept the same way. A
+// (numerical dissipation earns no credit). A frame whose own excess is positive fails when the
+// sum with it exceeds (energyGrowth - 1) * max(S, sum |W|, sum |dB|, max L h^2) + energySlack,
+// with S the kinetic + elastic energy where the sum last started and the sums kept the same
+// way (a frame that adds nothing passes: halving it cannot undo what the frames before did). A
 // growth of r per frame is caught once the energy is about (energyGrowth - 1) (0.01 + r) / r
-// times S: 10x at r = 0.1, 18x at 0.01. A frame that fails still lets the sum forget, so that
-// the frames after it can pass once the growth is gone. A state changed between frames
-// restarts the sum.
+// times S: 10x at r = 0.1, 18x at 0.01. A frame that fails restores the state and keeps the
+// sum, which still forgets a little; a state changed from outside between frames restarts it.
 //
 // When every check passes at once the wrapped integrator has advanced the frame exactly as it
 // would alone (bit-identical state); the guard only adds its measurements. After a rollback,
@@ -107,6 +107,7 @@ class StabilityGuard : public Integrator {
     double work = 0.0;        // sum of |W|
     double bodyChange = 0.0;  // sum of |dB|
     double startEnergy = 0.0; // kinetic + elastic where the sum started
+    double kick = 0.0;        // the largest L h^2 of the frames summed
     int frames = 0;
   };
 
