@@ -3,6 +3,8 @@
 // (precomputed at construction) and evaluates forces, energy and stiffness for a state.
 // Virtual calls happen once per model per evaluation, never per element.
 #include <Eigen/Core>
+#include <array>
+#include <vector>
 
 #include "tissue_trainer/core/solve/sparse_pattern.h"
 
@@ -35,6 +37,23 @@ class ForceModel {
   virtual bool hasStiffness() const { return false; }
   virtual void addStiffness(const Eigen::VectorXd& /*x*/, double /*scale*/,
                             const SparsePattern& /*pattern*/, SparseMatrix& /*K*/) const {}
+
+  // out += scale * (df/dx at x) d without assembling K (matrix-free solvers, the
+  // stiffness-times-vector output of tissue_cli). Models that answer true implement it.
+  virtual bool hasStiffnessProduct() const { return false; }
+  virtual void addStiffnessTimes(const Eigen::VectorXd& /*x*/, const Eigen::VectorXd& /*d*/,
+                                 double /*scale*/, Eigen::VectorXd& /*out*/) const {}
+
+  // C += scale * df/dv at (x, v), into a matrix with the system's pattern: velocity-dependent
+  // forces (damping, friction) that implicit integrators treat implicitly.
+  virtual bool hasVelocityJacobian() const { return false; }
+  virtual void addVelocityJacobian(const Eigen::VectorXd& /*x*/, const Eigen::VectorXd& /*v*/,
+                                   double /*scale*/, const SparsePattern& /*pattern*/,
+                                   SparseMatrix& /*C*/) const {}
+
+  // Node pairs this model couples beyond the mesh's elements (springs between arbitrary
+  // nodes); the system's sparse pattern is built to include them.
+  virtual std::vector<std::array<int, 2>> couplings() const { return {}; }
 };
 
 }  // namespace tt
