@@ -1,5 +1,5 @@
 // tissue_cli: the command-line face of the core. Its output is a contract other checks rely
-// on (README "Command-line tool"). Exit codes: 0 ok, 2 bad input or usage, 3 the simulation
+// on (docs/cli.md). Exit codes: 0 ok, 2 bad input or usage, 3 the simulation
 // failed (non-finite state or no convergence).
 #include <cmath>
 #include <cstdio>

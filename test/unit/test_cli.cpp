@@ -1,4 +1,4 @@
-// The tissue_cli contract (README "Command-line tool"): output format and exit codes.
+// The tissue_cli contract (docs/cli.md): output format and exit codes.
 // Only in the catkin build, which knows where tissue_cli is (TT_CLI_PATH).
 #ifdef TT_CLI_PATH
 #include <gtest/gtest.h>

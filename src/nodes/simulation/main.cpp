@@ -1,4 +1,4 @@
-// The simulation node (see simulation_node.h and the README's node table).
+// The simulation node (see simulation_node.h and docs/nodes.md).
 #include <ros/ros.h>
 
 #include "simulation_node.h"

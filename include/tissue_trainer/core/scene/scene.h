@@ -1,7 +1,7 @@
 #pragma once
 // A scene file (YAML) describes one simulation: mesh, materials, fibres, force models,
 // integrator, boundary conditions, loads, run length and outputs. loadScene validates it
-// strictly and builds only what it lists. See README "Scene format".
+// strictly and builds only what it lists. See docs/scene_format.md.
 #include <memory>
 #include <optional>
 #include <string>
