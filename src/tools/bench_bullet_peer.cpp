@@ -393,12 +393,7 @@ Options parseOptions(int argc, char** argv) {
     }
   }
   if (o.quick && !timeLimitGiven) o.timeLimit = 5.0;
-  const std::vector<std::string> models = bench::elasticModelNames();
-  if (std::find(models.begin(), models.end(), o.pair) == models.end()) {
-    std::fprintf(stderr, "bench_bullet_peer: --pair expects one of %s, got '%s'\n",
-                 kElasticModelNames, o.pair.c_str());
-    std::exit(2);
-  }
+  bench::requireKnown("bench_bullet_peer", "--pair model", {o.pair}, bench::elasticModelNames());
   return o;
 }
 

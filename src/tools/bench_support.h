@@ -1,6 +1,6 @@
 #pragma once
 // Shared by the benchmarks that write CSV (bench_work_precision, bench_scaling): the process
-// CPU clock and the wall clock, medians, the elastic model names the factory offers, and the
+// CPU clock and the wall clock, medians, the elastic model names the registry offers, and the
 // natural frequencies of a system at rest.
 #include <time.h>
 
@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "tissue_trainer/core/scene/factories.h"
+#include "tissue_trainer/core/scene/registry.h"
 #include "tissue_trainer/core/system.h"
 
 namespace tt {
@@ -104,21 +104,8 @@ inline void keepOnly(const char* tool, const char* what, std::vector<std::string
              list.end());
 }
 
-// The names makeElasticModel knows ("edge_length, edge_length_literal, ...").
-inline std::vector<std::string> elasticModelNames() {
-  std::vector<std::string> names;
-  std::string list = kElasticModelNames;
-  size_t start = 0;
-  while (start < list.size()) {
-    size_t end = list.find(',', start);
-    if (end == std::string::npos) end = list.size();
-    std::string name = list.substr(start, end - start);
-    name.erase(0, name.find_first_not_of(' '));
-    if (!name.empty()) names.push_back(name);
-    start = end + 1;
-  }
-  return names;
-}
+// The force model presets of the registry ("edge_length, edge_length_literal, ...").
+inline std::vector<std::string> elasticModelNames() { return registry().presetNames(); }
 
 // -K at x with identity rows and columns for the constrained DOFs, column-major for the
 // sparse solvers.

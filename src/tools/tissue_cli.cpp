@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -15,7 +16,7 @@
 #include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/mesh/mesh_io.h"
 #include "tissue_trainer/core/mesh/quality.h"
-#include "tissue_trainer/core/scene/factories.h"
+#include "tissue_trainer/core/scene/registry.h"
 #include "tissue_trainer/core/scene/scene.h"
 #include "tissue_trainer/core/scene/scene_runner.h"
 
@@ -29,7 +30,9 @@ const char* const kUsage =
     "  tissue_cli convert IN OUT            (OUT: .vtu, .msh (Gmsh v2), .vtk, .node/.ele (TetGen))\n"
     "  tissue_cli run SCENE.yaml [--duration T] [--out DIR]\n"
     "  tissue_cli forces --mesh MESH --deformed POSITIONS --model NAME --lambda L --mu M\n"
-    "                    [--lambda-l LL --mu-l ML --fiber X Y Z]\n";
+    "                    [--lambda-l LL --mu-l ML --fiber X Y Z] [--stiffness-times DIR]\n"
+    "  tissue_cli forces --scene SCENE.yaml --deformed POSITIONS [--stiffness-times DIR]\n"
+    "  tissue_cli models                    (every registered force model, law and integrator)\n";
 
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -152,9 +155,11 @@ int run(const Arguments& args) {
   return kOk;
 }
 
-Eigen::VectorXd readPositions(const std::string& path, int numNodes) {
+// One `x y z` line per node (blank lines and lines starting with # skipped); `what` names
+// the content in errors ("positions", "direction").
+Eigen::VectorXd readNodeVectors(const std::string& path, int numNodes, const char* what) {
   std::ifstream in(path);
-  if (!in) throw tt::InputError(path, 0, "cannot open the positions file");
+  if (!in) throw tt::InputError(path, 0, std::string("cannot open the ") + what + " file");
   Eigen::VectorXd x(3 * numNodes);
   std::string line;
   int node = 0;
@@ -187,8 +192,61 @@ Eigen::VectorXd readPositions(const std::string& path, int numNodes) {
   return x;
 }
 
+// The output contract of `forces`: energy, one force line per node and, when d is given, the
+// line `stiffness_times` and one line of H d per node, H = d2E/dx2 = -df/dx. Each model gives
+// its stiffness-times-vector product where it has one, else its assembled stiffness times d.
+int printForces(const std::vector<const tt::ForceModel*>& models, const tt::SparsePattern& pattern,
+                const Eigen::VectorXd& x, const Eigen::VectorXd* d) {
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(x.size());
+  Eigen::VectorXd f = zero;
+  double energy = 0.0;
+  for (const tt::ForceModel* m : models) energy += m->addForce(x, zero, f);
+  Eigen::VectorXd Hd = zero;
+  if (d) {
+    for (const tt::ForceModel* m : models) {
+      if (m->hasStiffnessProduct()) {
+        m->addStiffnessTimes(x, *d, -1.0, Hd);
+      } else if (m->hasStiffness()) {
+        tt::SparseMatrix K = pattern.zeroMatrix();
+        m->addStiffness(x, -1.0, pattern, K);
+        Hd += K * *d;
+      } else {
+        throw UsageError(std::string("--stiffness-times: force model ") + m->name() +
+                         " provides no stiffness");
+      }
+    }
+  }
+  std::printf("energy %.17g\n", energy);
+  const int n = static_cast<int>(x.size() / 3);
+  for (int i = 0; i < n; ++i) std::printf("%.17g %.17g %.17g\n", f[3 * i], f[3 * i + 1], f[3 * i + 2]);
+  if (d) {
+    std::printf("stiffness_times\n");
+    for (int i = 0; i < n; ++i)
+      std::printf("%.17g %.17g %.17g\n", Hd[3 * i], Hd[3 * i + 1], Hd[3 * i + 2]);
+  }
+  return kOk;
+}
+
+// The scene's elastic force models (its `force_models`; body loads such as gravity are left
+// out) on its placed mesh.
+int forcesOfScene(const Arguments& args) {
+  for (const char* flag : {"mesh", "model", "lambda", "mu", "lambda-l", "mu-l", "fiber"})
+    if (args.has(flag))
+      throw UsageError(std::string("--") + flag + " belongs to the --mesh form, not to --scene");
+  const tt::Scene scene = tt::loadScene(args.text("scene"));
+  const tt::System& s = scene.system;
+  std::vector<const tt::ForceModel*> models;
+  for (const auto& m : s.models)
+    if (!m->isBodyLoad()) models.push_back(m.get());
+  const Eigen::VectorXd x = readNodeVectors(args.text("deformed"), s.numNodes(), "positions");
+  if (!args.has("stiffness-times")) return printForces(models, s.pattern, x, nullptr);
+  const Eigen::VectorXd d = readNodeVectors(args.text("stiffness-times"), s.numNodes(), "direction");
+  return printForces(models, s.pattern, x, &d);
+}
+
 int forces(const Arguments& args) {
   if (!args.positional.empty()) throw UsageError("forces takes only options");
+  if (args.has("scene")) return forcesOfScene(args);
   tt::Mesh mesh = tt::readMesh(args.text("mesh"));
   tt::Material material;
   material.lambda = args.number("lambda");
@@ -202,15 +260,44 @@ int forces(const Arguments& args) {
     for (Eigen::Matrix3d& frame : mesh.fibreFrame) frame.col(0) = a0;
   }
   mesh.material.assign(mesh.numTets(), 0);
-  const std::string& name = args.text("model");
-  auto model = tt::makeElasticModel(name, mesh, {material});
-  if (!model) throw UsageError("--model expects one of: " + std::string(tt::kElasticModelNames));
-  const Eigen::VectorXd x = readPositions(args.text("deformed"), mesh.numNodes());
-  Eigen::VectorXd f = Eigen::VectorXd::Zero(x.size());
-  const double energy = model->addForce(x, Eigen::VectorXd::Zero(x.size()), f);
-  std::printf("energy %.17g\n", energy);
-  for (int n = 0; n < mesh.numNodes(); ++n)
-    std::printf("%.17g %.17g %.17g\n", f[3 * n], f[3 * n + 1], f[3 * n + 2]);
+  std::unique_ptr<tt::ForceModel> model;
+  try {
+    model = tt::makeElasticModel(args.text("model"), mesh, {material});
+  } catch (const tt::UnknownNameError&) {
+    std::string known;
+    for (const std::string& n : tt::registry().presetNames()) known += (known.empty() ? "" : ", ") + n;
+    throw UsageError("--model expects one of: " + known + "; got '" + args.text("model") + "'");
+  }
+  const Eigen::VectorXd x = readNodeVectors(args.text("deformed"), mesh.numNodes(), "positions");
+  const tt::SparsePattern pattern(mesh.numNodes(), mesh.tets);
+  if (!args.has("stiffness-times")) return printForces({model.get()}, pattern, x, nullptr);
+  const Eigen::VectorXd d = readNodeVectors(args.text("stiffness-times"), mesh.numNodes(), "direction");
+  return printForces({model.get()}, pattern, x, &d);
+}
+
+void printKeys(const std::vector<tt::KeyDoc>& keys) {
+  for (const tt::KeyDoc& k : keys) std::printf("  key %s: %s\n", k.key.c_str(), k.description.c_str());
+}
+
+// Every entry of the registry with its keys: what a scene may name.
+int models(const Arguments& args) {
+  if (!args.positional.empty()) throw UsageError("models takes no arguments");
+  const tt::Registry& r = tt::registry();
+  for (const tt::ForceModelEntry& m : r.forceModels()) {
+    std::printf("force_model %s: %s\n", m.name.c_str(), m.description.c_str());
+    printKeys(m.keys);
+    for (const tt::ModelPreset& p : m.presets)
+      std::printf("  preset %s%s%s: %s\n", p.name.c_str(), p.options.empty() ? "" : " ",
+                  p.options.c_str(), p.description.c_str());
+  }
+  for (const tt::LawEntry& l : r.laws()) {
+    std::printf("law %s: %s\n", l.name.c_str(), l.description.c_str());
+    printKeys(l.materialKeys);
+  }
+  for (const tt::IntegratorEntry& i : r.integrators()) {
+    std::printf("integrator %s: %s\n", i.name.c_str(), i.description.c_str());
+    printKeys(i.keys);
+  }
   return kOk;
 }
 
@@ -229,7 +316,9 @@ int main(int argc, char** argv) {
     if (command == "forces")
       return forces(Arguments(argc, argv, 2,
                               {{"mesh", 1}, {"deformed", 1}, {"model", 1}, {"lambda", 1},
-                               {"mu", 1}, {"lambda-l", 1}, {"mu-l", 1}, {"fiber", 3}}));
+                               {"mu", 1}, {"lambda-l", 1}, {"mu-l", 1}, {"fiber", 3},
+                               {"scene", 1}, {"stiffness-times", 1}}));
+    if (command == "models") return models(Arguments(argc, argv, 2, {}));
     throw UsageError("unknown command '" + command + "'");
   } catch (const tt::InputError& e) {
     std::cerr << e.what() << "\n";

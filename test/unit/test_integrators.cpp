@@ -15,7 +15,7 @@
 #include "tissue_trainer/core/integrate/explicit_euler.h"
 #include "tissue_trainer/core/integrate/newtonian.h"
 #include "tissue_trainer/core/mesh/generators.h"
-#include "tissue_trainer/core/scene/factories.h"
+#include "tissue_trainer/core/scene/registry.h"
 
 namespace tt {
 namespace {

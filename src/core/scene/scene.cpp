@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -10,7 +11,7 @@
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/mesh/mesh_io.h"
 #include "tissue_trainer/core/model/gravity.h"
-#include "tissue_trainer/core/scene/factories.h"
+#include "tissue_trainer/core/scene/registry.h"
 #include "tissue_trainer/core/scene/yaml_reader.h"
 
 namespace tt {
@@ -255,10 +256,20 @@ std::uint8_t parseAxes(const YamlEntry& e) {
   return bits;
 }
 
+// The keys of a `materials` entry: the common ones and every registered law's own keys.
+std::vector<std::string> materialKeys() {
+  std::vector<std::string> keys{"name", "region", "density", "stress_unit", "young_modulus",
+                                "poisson_ratio", "young_modulus_longitudinal",
+                                "poisson_ratio_longitudinal", "lambda", "mu",
+                                "lambda_longitudinal", "mu_longitudinal"};
+  for (const LawEntry& law : registry().laws())
+    for (const KeyDoc& k : law.materialKeys)
+      if (std::find(keys.begin(), keys.end(), k.key) == keys.end()) keys.push_back(k.key);
+  return keys;
+}
+
 Material parseMaterial(const YamlEntry& spec) {
-  spec.expectMap({"name", "region", "density", "stress_unit", "young_modulus", "poisson_ratio",
-                  "young_modulus_longitudinal", "poisson_ratio_longitudinal", "lambda", "mu",
-                  "lambda_longitudinal", "mu_longitudinal"});
+  spec.expectMap(materialKeys());
   const double unit = spec.has("stress_unit") ? stressUnit(spec["stress_unit"]) : 1.0;
   const double density = spec.positive("density", 1000.0);
   auto poisson = [](const YamlEntry& e) {
@@ -427,14 +438,17 @@ Scene loadScene(const std::string& path) {
 
   const YamlEntry models = top["force_models"];
   if (models.size() == 0) models.fail("expected at least one force model");
+  ModelContext context{system.mesh, system.materials, {}};
+  const YamlEntry materialList = top["materials"];
+  for (size_t k = 0; k < materialList.size(); ++k) context.materialEntries.push_back(materialList[k]);
   for (size_t k = 0; k < models.size(); ++k)
-    system.models.push_back(makeForceModel(models[k], system));
+    system.models.push_back(registry().makeForceModel(models[k], context));
   if (top.has("loads")) applyLoads(top["loads"], system);
   if (top.has("boundary")) applyBoundary(top["boundary"], system);
   system.prescribe(0.0, system.state.x, system.state.v);
 
   const YamlEntry integrator = top["integrator"];
-  scene.integrator = makeIntegrator(integrator);
+  scene.integrator = registry().makeIntegrator(integrator);
   if (scene.integrator->needsStiffness() && !system.hasStiffness()) {
     std::string missing;
     for (const auto& m : system.models)

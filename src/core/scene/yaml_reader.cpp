@@ -30,14 +30,21 @@ void YamlEntry::fail(const std::string& expected) const {
 }
 
 void YamlEntry::expectMap(std::initializer_list<const char*> allowed) const {
+  expectMap(std::vector<std::string>(allowed.begin(), allowed.end()));
+}
+
+void YamlEntry::expectMap(const std::vector<std::string>& allowed) const {
   if (!node_.IsMap()) fail("expected a map, got " + describe(node_));
   for (const auto& item : node_) {
     const std::string key = item.first.Scalar();
     bool known = false;
-    for (const char* a : allowed) known = known || key == a;
-    if (!known)
+    for (const std::string& a : allowed) known = known || key == a;
+    if (!known) {
+      std::string list;
+      for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
       YamlEntry(item.first, path_.empty() ? key : path_ + "." + key, file_)
-          .fail("unknown key '" + key + "' (expected one of: " + joinWords(allowed) + ")");
+          .fail("unknown key '" + key + "' (expected one of: " + list + ")");
+    }
   }
 }
 

@@ -26,6 +26,7 @@ class YamlEntry {
 
   // This entry must be a map whose keys are all in `allowed`.
   void expectMap(std::initializer_list<const char*> allowed) const;
+  void expectMap(const std::vector<std::string>& allowed) const;
   bool has(const char* key) const { return node_.IsMap() && node_[key]; }
   YamlEntry operator[](const char* key) const;  // fails if the key is absent
   YamlEntry operator[](int index) const;

@@ -1,0 +1,162 @@
+#pragma once
+// The one registry of everything a scene can name: force models (`force_models[].type`),
+// material laws (`law`, read by element models such as `hyperelastic`) and integrators
+// (`integrator.type`). Each entry is the name, a one-line description, the YAML keys it
+// accepts (each with a one-line description) and its factory. The scene loader, tissue_cli
+// (`tissue_cli models`), the benchmarks and the tests read this registry and nothing else;
+// docs/registry.md says how to add an entry.
+//
+// How an entry gets in (and why it cannot silently get lost):
+//   A model, law or integrator registers itself in a small file beside its own,
+//   `<name>_registration.cpp`, which defines one function `void registerXxx(Registry&)`
+//   calling Registry::add. The single list in src/core/scene/builtin_registrations.cpp
+//   declares and calls every such function. The core is a static library in the standalone
+//   build, so self-registering static objects in otherwise unreferenced object files would be
+//   dropped by the linker; an explicit call is a reference, so the linker keeps the object.
+//   A unit test reads the sources and fails when a `register*(Registry&)` function defined in
+//   a *_registration.cpp is not called from the list, and another fails when a name
+//   docs/registry.md documents is not registered (or a registered name is undocumented).
+//
+// Factories read their options strictly: the registry itself checks the keys of an entry
+// (`type` plus the declared keys) before calling the factory, so the documented keys and the
+// accepted keys are one list. An unknown name is one error that lists the known ones; there
+// is no default.
+#include <any>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "tissue_trainer/core/integrate/integrator.h"
+#include "tissue_trainer/core/mesh/mesh.h"
+#include "tissue_trainer/core/model/force_model.h"
+#include "tissue_trainer/core/model/material.h"
+#include "tissue_trainer/core/scene/yaml_reader.h"
+
+namespace tt {
+
+// One accepted YAML key and what it means (shown by `tissue_cli models`).
+struct KeyDoc {
+  std::string key;
+  std::string description;
+};
+
+// What a force model is built over. materialEntries are the scene's `materials` entries, one
+// per material id (index = Mesh::material value), for models whose law reads its own
+// parameters from them; it is empty when the model is built outside a scene (benchmarks,
+// `tissue_cli forces --model`), where only the common elastic constants in `materials` exist.
+struct ModelContext {
+  const Mesh& mesh;
+  const std::vector<Material>& materials;
+  std::vector<YamlEntry> materialEntries;
+};
+
+// A named configuration of a force model: the model with fixed options, e.g.
+// edge_length_literal = edge_length {path: literal}. Benchmarks and `tissue_cli forces --model`
+// take these names. A model with no required key lists its own name (options "") as one.
+struct ModelPreset {
+  std::string name;
+  std::string options;      // YAML flow map of the options, "" or "{}" for none
+  std::string description;
+};
+
+// Factories use the spec and context during the call only (they keep no YamlEntry).
+using ForceModelFactory =
+    std::function<std::unique_ptr<ForceModel>(const YamlEntry& spec, const ModelContext& context)>;
+
+struct ForceModelEntry {
+  std::string name;
+  std::string description;
+  std::vector<KeyDoc> keys;            // accepted besides `type`
+  std::vector<ModelPreset> presets;    // the named configurations (may be empty)
+  ForceModelFactory make;
+};
+
+// A material law (psi(F), P(F), dP). Its entry names the keys a `materials` entry may carry
+// for it beyond the common ones (density, young_modulus, poisson_ratio, the longitudinal
+// pair, lambda/mu, region, name, stress_unit), and makes the law's parameters for one
+// material from that entry plus the common constants already read into `common`. The value
+// is the law's own parameter type held in std::any; the element model that is templated on
+// the law (`hyperelastic`) takes it back with std::any_cast. A key of a law is accepted in
+// every material entry; the model using the law reports a key no used law reads.
+using LawParameterFactory =
+    std::function<std::any(const YamlEntry& material, const Material& common)>;
+
+struct LawEntry {
+  std::string name;
+  std::string description;
+  std::vector<KeyDoc> materialKeys;    // the law's own keys in a `materials` entry
+  LawParameterFactory parameters;
+};
+
+using IntegratorFactory = std::function<std::unique_ptr<Integrator>(const YamlEntry& spec)>;
+
+struct IntegratorEntry {
+  std::string name;
+  std::string description;
+  std::vector<KeyDoc> keys;            // accepted besides `type`
+  IntegratorFactory make;
+};
+
+// An unknown name outside a scene file (benchmark or CLI option); the message lists the
+// known names. Inside a scene, an unknown `type` is an InputError at the key's line.
+struct UnknownNameError : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
+class Registry {
+ public:
+  // Each throws std::logic_error for an empty name, a missing factory, a repeated key or a
+  // name (or preset name) already registered in the same section: a programming error the
+  // first run of any test finds.
+  void add(ForceModelEntry entry);
+  void add(LawEntry entry);
+  void add(IntegratorEntry entry);
+
+  const std::vector<ForceModelEntry>& forceModels() const { return models_; }
+  const std::vector<LawEntry>& laws() const { return laws_; }
+  const std::vector<IntegratorEntry>& integrators() const { return integrators_; }
+
+  // nullptr when unknown.
+  const ForceModelEntry* findForceModel(const std::string& name) const;
+  const LawEntry* findLaw(const std::string& name) const;
+  const IntegratorEntry* findIntegrator(const std::string& name) const;
+
+  // "a, b, c" in registration order.
+  std::string forceModelNames() const;
+  std::string lawNames() const;
+  std::string integratorNames() const;
+  std::vector<std::string> presetNames() const;  // every preset of every model, in order
+
+  // Scene entries {type: NAME, ...}: the type must be registered (else InputError at `type`
+  // listing the known names) and every other key declared by the entry.
+  std::unique_ptr<ForceModel> makeForceModel(const YamlEntry& spec,
+                                             const ModelContext& context) const;
+  std::unique_ptr<Integrator> makeIntegrator(const YamlEntry& spec) const;
+  // The law named by `entry` (a `law: NAME` value), or InputError listing the known laws.
+  const LawEntry& law(const YamlEntry& entry) const;
+
+  // A preset by name; UnknownNameError listing the presets when there is none.
+  std::unique_ptr<ForceModel> makePreset(const std::string& name,
+                                         const ModelContext& context) const;
+
+ private:
+  std::vector<ForceModelEntry> models_;
+  std::vector<LawEntry> laws_;
+  std::vector<IntegratorEntry> integrators_;
+};
+
+// The registry of the built-in models, laws and integrators, filled on first use (thread-safe)
+// by registerBuiltIns.
+const Registry& registry();
+
+// A force model preset (see ModelPreset) over a mesh and its materials, outside a scene
+// (benchmarks, tests, tissue_cli forces --model); UnknownNameError listing the presets.
+std::unique_ptr<ForceModel> makeElasticModel(const std::string& preset, const Mesh& mesh,
+                                             const std::vector<Material>& materials);
+
+// Calls every registration function (src/core/scene/builtin_registrations.cpp).
+void registerBuiltIns(Registry& registry);
+
+}  // namespace tt

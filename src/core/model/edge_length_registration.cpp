@@ -1,0 +1,23 @@
+// Registers edge_length (and its preset edge_length_literal) in the scene registry.
+#include "tissue_trainer/core/model/edge_length.h"
+#include "tissue_trainer/core/scene/registry.h"
+
+namespace tt {
+
+void registerEdgeLengthModel(Registry& registry) {
+  ForceModelEntry e;
+  e.name = "edge_length";
+  e.description =
+      "transversely isotropic St Venant-Kirchhoff tetrahedron written with edge lengths";
+  e.keys = {{"path", "fast (F, E, S; default) | literal (the packed edge-length sum and energy)"}};
+  e.presets = {{"edge_length", "", "the fast path"},
+               {"edge_length_literal", "{path: literal}", "the literal edge-length path"}};
+  e.make = [](const YamlEntry& spec, const ModelContext& c) -> std::unique_ptr<ForceModel> {
+    EdgeLengthPath path = EdgeLengthPath::kFast;
+    if (spec.has("path")) parseEdgeLengthPath(spec["path"].choice({"fast", "literal"}), path);
+    return std::make_unique<EdgeLengthModel>(c.mesh, c.materials, path);
+  };
+  registry.add(std::move(e));
+}
+
+}  // namespace tt

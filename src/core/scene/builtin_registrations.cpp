@@ -1,0 +1,30 @@
+// The one list of registration functions (see registry.h for why it is a list of calls and
+// not self-registering objects). A new model, law or integrator adds its declaration and its
+// call here, in the same order; test_registry.cpp checks that every register*(Registry&)
+// defined in a *_registration.cpp is called below.
+#include "tissue_trainer/core/scene/registry.h"
+
+namespace tt {
+
+// Force models (src/core/model/*_registration.cpp).
+void registerEdgeLengthModel(Registry&);
+void registerStvkDisplacementModel(Registry&);
+void registerTensorMassModel(Registry&);
+// Material laws (src/core/material/*_registration.cpp): none yet.
+// Integrators (src/core/integrate/*_registration.cpp).
+void registerBackwardEuler(Registry&);
+void registerNewtonian(Registry&);
+void registerRadauIIA(Registry&);
+void registerExplicitEuler(Registry&);
+
+void registerBuiltIns(Registry& registry) {
+  registerEdgeLengthModel(registry);
+  registerStvkDisplacementModel(registry);
+  registerTensorMassModel(registry);
+  registerBackwardEuler(registry);
+  registerNewtonian(registry);
+  registerRadauIIA(registry);
+  registerExplicitEuler(registry);
+}
+
+}  // namespace tt

@@ -1,0 +1,156 @@
+#include "tissue_trainer/core/scene/registry.h"
+
+#include <algorithm>
+#include <set>
+
+namespace tt {
+namespace {
+
+template <class Entry>
+const Entry* findByName(const std::vector<Entry>& entries, const std::string& name) {
+  for (const Entry& e : entries)
+    if (e.name == name) return &e;
+  return nullptr;
+}
+
+template <class Entry>
+std::string joinNames(const std::vector<Entry>& entries) {
+  std::string out;
+  for (const Entry& e : entries) out += (out.empty() ? "" : ", ") + e.name;
+  return out;
+}
+
+void requireName(const std::string& section, const std::string& name, bool hasFactory) {
+  if (name.empty()) throw std::logic_error("registry: a " + section + " without a name");
+  if (!hasFactory) throw std::logic_error("registry: " + section + " '" + name + "' has no factory");
+}
+
+void requireDistinctKeys(const std::string& section, const std::string& name,
+                         const std::vector<KeyDoc>& keys) {
+  std::set<std::string> seen{"type"};
+  for (const KeyDoc& k : keys)
+    if (k.key.empty() || !seen.insert(k.key).second)
+      throw std::logic_error("registry: " + section + " '" + name + "' declares key '" + k.key +
+                             "' twice (or 'type', or an empty key)");
+}
+
+// `type` plus the entry's declared keys.
+std::vector<std::string> allowedKeys(const std::vector<KeyDoc>& keys) {
+  std::vector<std::string> allowed{"type"};
+  for (const KeyDoc& k : keys) allowed.push_back(k.key);
+  return allowed;
+}
+
+// The entry named by spec.type, or an InputError at `type` listing the known names.
+template <class Entry>
+const Entry& entryOfType(const YamlEntry& spec, const std::vector<Entry>& entries,
+                         const char* what) {
+  const YamlEntry type = spec["type"];
+  const std::string name = type.text();
+  const Entry* entry = findByName(entries, name);
+  if (!entry)
+    type.fail("unknown " + std::string(what) + " '" + name + "' (expected one of: " +
+              joinNames(entries) + ")");
+  spec.expectMap(allowedKeys(entry->keys));
+  return *entry;
+}
+
+}  // namespace
+
+void Registry::add(ForceModelEntry entry) {
+  requireName("force model", entry.name, static_cast<bool>(entry.make));
+  if (findForceModel(entry.name))
+    throw std::logic_error("registry: force model '" + entry.name + "' registered twice");
+  requireDistinctKeys("force model", entry.name, entry.keys);
+  const std::vector<std::string> presets = presetNames();
+  for (const ModelPreset& p : entry.presets)
+    if (p.name.empty() || std::count(presets.begin(), presets.end(), p.name) ||
+        std::count_if(entry.presets.begin(), entry.presets.end(),
+                      [&](const ModelPreset& q) { return q.name == p.name; }) > 1)
+      throw std::logic_error("registry: preset '" + p.name + "' of force model '" + entry.name +
+                             "' is empty or registered twice");
+  models_.push_back(std::move(entry));
+}
+
+void Registry::add(LawEntry entry) {
+  requireName("law", entry.name, static_cast<bool>(entry.parameters));
+  if (findLaw(entry.name)) throw std::logic_error("registry: law '" + entry.name + "' registered twice");
+  requireDistinctKeys("law", entry.name, entry.materialKeys);
+  laws_.push_back(std::move(entry));
+}
+
+void Registry::add(IntegratorEntry entry) {
+  requireName("integrator", entry.name, static_cast<bool>(entry.make));
+  if (findIntegrator(entry.name))
+    throw std::logic_error("registry: integrator '" + entry.name + "' registered twice");
+  requireDistinctKeys("integrator", entry.name, entry.keys);
+  integrators_.push_back(std::move(entry));
+}
+
+const ForceModelEntry* Registry::findForceModel(const std::string& name) const {
+  return findByName(models_, name);
+}
+const LawEntry* Registry::findLaw(const std::string& name) const { return findByName(laws_, name); }
+const IntegratorEntry* Registry::findIntegrator(const std::string& name) const {
+  return findByName(integrators_, name);
+}
+
+std::string Registry::forceModelNames() const { return joinNames(models_); }
+std::string Registry::lawNames() const { return joinNames(laws_); }
+std::string Registry::integratorNames() const { return joinNames(integrators_); }
+
+std::vector<std::string> Registry::presetNames() const {
+  std::vector<std::string> names;
+  for (const ForceModelEntry& m : models_)
+    for (const ModelPreset& p : m.presets) names.push_back(p.name);
+  return names;
+}
+
+std::unique_ptr<ForceModel> Registry::makeForceModel(const YamlEntry& spec,
+                                                     const ModelContext& context) const {
+  return entryOfType(spec, models_, "force model").make(spec, context);
+}
+
+std::unique_ptr<Integrator> Registry::makeIntegrator(const YamlEntry& spec) const {
+  return entryOfType(spec, integrators_, "integrator").make(spec);
+}
+
+const LawEntry& Registry::law(const YamlEntry& entry) const {
+  const std::string name = entry.text();
+  const LawEntry* law = findLaw(name);
+  if (!law)
+    entry.fail("unknown law '" + name + "' (expected one of: " +
+               (laws_.empty() ? std::string("none registered") : lawNames()) + ")");
+  return *law;
+}
+
+std::unique_ptr<ForceModel> Registry::makePreset(const std::string& name,
+                                                 const ModelContext& context) const {
+  for (const ForceModelEntry& m : models_)
+    for (const ModelPreset& p : m.presets) {
+      if (p.name != name) continue;
+      YAML::Node spec = p.options.empty() ? YAML::Node(YAML::NodeType::Map) : YAML::Load(p.options);
+      spec["type"] = m.name;
+      const std::string origin = "preset " + p.name;
+      return makeForceModel(YamlEntry(spec, "", &origin), context);
+    }
+  std::string known;
+  for (const std::string& n : presetNames()) known += (known.empty() ? "" : ", ") + n;
+  throw UnknownNameError("unknown force model '" + name + "' (expected one of: " + known + ")");
+}
+
+std::unique_ptr<ForceModel> makeElasticModel(const std::string& preset, const Mesh& mesh,
+                                             const std::vector<Material>& materials) {
+  return registry().makePreset(preset, ModelContext{mesh, materials, {}});
+}
+
+const Registry& registry() {
+  static const Registry instance = [] {
+    Registry r;
+    registerBuiltIns(r);
+    return r;
+  }();
+  return instance;
+}
+
+}  // namespace tt
