@@ -62,12 +62,12 @@ std::string readFile(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-struct Run {
+struct Outcome {
   int exitCode;  // -1: ended by a signal
   std::string out, err;
 };
 
-Run run(const std::string& command, const std::string& stem) {
+Outcome run(const std::string& command, const std::string& stem) {
   const int status = std::system((command + " > " + stem + ".out 2> " + stem + ".err").c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, readFile(stem + ".out"), readFile(stem + ".err")};
 }
@@ -127,7 +127,7 @@ TEST(BagSurvival, AKilledRecordingIsAssessedAndBadBagsGiveOneLine) {
   const auto activeSize = fs::file_size(active);
 
   // assess_bag on the unindexed bag: one line saying so, then the report of what it holds.
-  const Run a = run(besideMe("assess_bag") + " " + active + " --out " + session + "/report",
+  const Outcome a = run(besideMe("assess_bag") + " " + active + " --out " + session + "/report",
                     session + "/assess_active");
   std::printf("assess_bag on the .bag.active (%ju bytes): exit %d\n%s%s", static_cast<std::uintmax_t>(activeSize),
               a.exitCode, a.err.c_str(), a.out.c_str());
@@ -141,7 +141,7 @@ TEST(BagSurvival, AKilledRecordingIsAssessedAndBadBagsGiveOneLine) {
   EXPECT_EQ(fs::file_size(active), activeSize) << "the original must not be touched";
 
   // replay_bag plays it too (what replay.launch runs), saying so.
-  const Run r = run(replayBag + " " + active + " --quiet --topics /tissue/status", session + "/replay_active");
+  const Outcome r = run(replayBag + " " + active + " --quiet --topics /tissue/status", session + "/replay_active");
   EXPECT_EQ(r.exitCode, 0) << r.err << r.out;
   EXPECT_NE((r.err + r.out).find("unindexed"), std::string::npos) << r.err << r.out;
 
@@ -171,12 +171,12 @@ TEST(BagSurvival, AKilledRecordingIsAssessedAndBadBagsGiveOneLine) {
   const std::string text = session + "/text.bag";
   std::ofstream(text) << "not a bag\n";
   for (const std::string& bad : {truncated, garbage, text, session + "/missing.bag"}) {
-    const Run b = run(besideMe("assess_bag") + " " + bad + " --out " + session + "/bad", session + "/bad");
+    const Outcome b = run(besideMe("assess_bag") + " " + bad + " --out " + session + "/bad", session + "/bad");
     std::printf("assess_bag %s: exit %d: %s", bad.c_str(), b.exitCode, b.err.c_str());
     EXPECT_EQ(b.exitCode, 2) << bad;
     EXPECT_EQ(lines(b.err), 1u) << bad << ": " << b.err;
     EXPECT_EQ(b.err.rfind("assess_bag: " + bad, 0), 0u) << b.err;
-    const Run p = run(replayBag + " " + bad + " --quiet", session + "/bad_replay");
+    const Outcome p = run(replayBag + " " + bad + " --quiet", session + "/bad_replay");
     std::printf("replay_bag %s: exit %d: %s", bad.c_str(), p.exitCode, p.err.c_str());
     EXPECT_EQ(p.exitCode, 2) << bad;
     EXPECT_EQ(lines(p.err), 1u) << bad << ": " << p.err;
