@@ -277,6 +277,39 @@ TEST(Assess, SettingsAreValidated) {
   EXPECT_THROW(loadAssessmentSettings(file), InputError);
 }
 
+TEST(Assess, ASimulationRestartIsSkippedAndReported) {
+  // Force 1 N every 10 ms over [0, 1] s and again from 1.3 s to 2 s: a gap shorter than
+  // max_gap (0.5 s), so only the restart flag keeps the last sample from holding over it.
+  // The tip stream starts at 0.5 s: restart times count from the session's first sample.
+  SessionAssessor plain{AssessmentSettings{}}, restarted{AssessmentSettings{}};
+  for (int i = 0; i <= 200; ++i) {
+    if (i > 100 && i < 130) continue;
+    const double t = i / 100.0;
+    const Vector3d f = i <= 100 ? Vector3d(1, 0, 0) : Vector3d(0, 2, 0);
+    plain.addForce(t, f, true);
+    restarted.addForce(t, f, true, i == 130);
+    if (i >= 50) restarted.addTip(t, Vector3d::Zero());
+  }
+  const AssessmentReport p = plain.report(), r = restarted.report();
+  EXPECT_TRUE(p.restarts.empty());
+  EXPECT_NEAR(metric(p, "contact_time"), 2.0, 1e-9);
+  EXPECT_NEAR(metric(r, "contact_time"), 1.7, 1e-9);
+  EXPECT_NEAR(metric(r, "force_integral"), 1.0 + 2.0 * 0.7, 1e-9);
+  // The jump across the restart is no change of force the trainee made.
+  EXPECT_NEAR(metric(r, "mean_force_rate"), 0.0, 1e-9);
+  ASSERT_EQ(r.restarts.size(), 1u);
+  EXPECT_NEAR(r.restarts[0].time, 1.3, 1e-12);
+  EXPECT_NEAR(r.restarts[0].gap, 0.3, 1e-12);
+  EXPECT_NE(assessmentMarkdown(r, "x").find("Simulation restarted at t = 1.3 s"), std::string::npos);
+  const YAML::Node y = YAML::Load(assessmentYaml(r, "x"));
+  ASSERT_EQ(y["simulation_restarts"].size(), 1u);
+  EXPECT_EQ(y["simulation_restarts"][0]["time"].as<double>(), r.restarts[0].time);
+  // The very first sample cannot follow a restart.
+  SessionAssessor first{AssessmentSettings{}};
+  first.addForce(0.0, Vector3d::Zero(), false, true);
+  EXPECT_TRUE(first.report().restarts.empty());
+}
+
 TEST(Assess, YamlRoundTripIsExact) {
   SessionAssessor a{AssessmentSettings{}};
   for (int i = 0; i <= 1000; ++i) {
@@ -291,6 +324,7 @@ TEST(Assess, YamlRoundTripIsExact) {
   EXPECT_EQ(y["samples"]["tip"]["accepted"].as<std::size_t>(), 1001u);
   for (const Metric& m : r.metrics) EXPECT_EQ(y["metrics"][m.key].as<double>(), m.value) << m.key;
   EXPECT_EQ(y["no_data"].size(), 0u);
+  EXPECT_EQ(y["simulation_restarts"].size(), 0u);
   EXPECT_EQ(y["settings"]["force_threshold"].as<double>(), 1.5);
 }
 

@@ -31,6 +31,15 @@ std::string number(double v) {
   return buf;
 }
 
+// "Simulation restarted at t = ..." for each restart, or nothing.
+std::string restartLines(const AssessmentReport& r) {
+  std::string s;
+  for (const SimulationRestart& x : r.restarts)
+    s += "Simulation restarted at t = " + number(x.time) + " s (no contact model for " +
+         number(x.gap) + " s before it; the metrics skip that gap).\n\n";
+  return s;
+}
+
 }  // namespace
 
 std::string assessmentYaml(const AssessmentReport& r, const std::string& source) {
@@ -57,6 +66,11 @@ std::string assessmentYaml(const AssessmentReport& r, const std::string& source)
   e << YAML::Key << "no_data" << YAML::Value << YAML::Flow << YAML::BeginSeq;
   for (const Metric& m : r.metrics)
     if (!m.hasData) e << m.key;
+  e << YAML::EndSeq;
+  e << YAML::Key << "simulation_restarts" << YAML::Value << YAML::BeginSeq;
+  for (const SimulationRestart& x : r.restarts)
+    e << YAML::Flow << YAML::BeginMap << YAML::Key << "time" << YAML::Value << x.time
+      << YAML::Key << "gap" << YAML::Value << x.gap << YAML::EndMap;
   e << YAML::EndSeq << YAML::EndMap;
   return std::string(e.c_str()) + "\n";
 }
@@ -68,7 +82,7 @@ std::string assessmentMarkdown(const AssessmentReport& r, const std::string& sou
     << r.tip.outOfOrder << "), force " << r.force.accepted << " (" << r.force.nonFinite << " / "
     << r.force.outOfOrder << "), tissue status " << r.status.accepted << " ("
     << r.status.nonFinite << " / " << r.status.outOfOrder << ").\n\n"
-    << "| metric | value | unit | definition |\n|---|---|---|---|\n";
+    << restartLines(r) << "| metric | value | unit | definition |\n|---|---|---|---|\n";
   for (const Metric& m : r.metrics)
     s << "| " << m.key << " | " << (m.hasData ? number(m.value) : "no data") << " | " << m.unit
       << " | " << cell(m.definition) << " |\n";
@@ -85,7 +99,7 @@ std::string assessmentSummary(const AssessmentReport& r) {
   s << "samples: tip " << r.tip.accepted << ", force " << r.force.accepted << ", status "
     << r.status.accepted << " (rejected " << r.tip.nonFinite + r.force.nonFinite + r.status.nonFinite
     << " non-finite, " << r.tip.outOfOrder + r.force.outOfOrder + r.status.outOfOrder
-    << " out of order)\n";
+    << " out of order)\n" << restartLines(r);
   for (const Metric& m : r.metrics) {
     char line[96];
     std::snprintf(line, sizeof line, "  %-24s %14s %s\n", m.key.c_str(),

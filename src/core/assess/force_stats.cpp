@@ -4,10 +4,10 @@
 
 namespace tt {
 
-void ForceStats::add(double t, const Eigen::Vector3d& f, bool inContact) {
+void ForceStats::add(double t, const Eigen::Vector3d& f, bool inContact, bool afterGap) {
   const double magnitude = f.norm();
   const bool above = magnitude > threshold_;
-  if (any_) {
+  if (any_ && !afterGap) {
     const double dt = t - lastT_;
     if (dt <= maxGap_) {  // the previous sample holds over [lastT_, t)
       const double last = lastF_.norm();

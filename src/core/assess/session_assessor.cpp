@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace tt {
 
@@ -44,15 +45,21 @@ bool SessionAssessor::addTip(double t, const Eigen::Vector3d& position) {
   return true;
 }
 
-bool SessionAssessor::addForce(double t, const Eigen::Vector3d& force, bool inContact) {
+bool SessionAssessor::addForce(double t, const Eigen::Vector3d& force, bool inContact,
+                               bool simulationRestarted) {
+  const double previous = forceLast_;
   if (!admit(forceCounts_, forceLast_, t, force.allFinite())) return false;
-  force_.add(t, force, inContact);
+  if (forceCounts_.accepted == 1) forceFirst_ = t;
+  const bool restart = simulationRestarted && forceCounts_.accepted > 1;
+  if (restart) restarts_.push_back(SimulationRestart{t, t - previous});
+  force_.add(t, force, inContact, restart);
   return true;
 }
 
 bool SessionAssessor::addStatus(double t, double maxStrain, double strainedVolume) {
   if (!admit(statusCounts_, statusLast_, t, std::isfinite(maxStrain) && std::isfinite(strainedVolume)))
     return false;
+  if (statusCounts_.accepted == 1) statusFirst_ = t;
   peakStrain_ = statusCounts_.accepted == 1 ? maxStrain : std::max(peakStrain_, maxStrain);
   peakStrainedVolume_ = statusCounts_.accepted == 1 ? strainedVolume
                                                      : std::max(peakStrainedVolume_, strainedVolume);
@@ -65,6 +72,14 @@ AssessmentReport SessionAssessor::report() const {
   r.tip = tipCounts_;
   r.force = forceCounts_;
   r.status = statusCounts_;
+  double sessionStart = std::numeric_limits<double>::infinity();
+  if (tipCounts_.accepted > 0) sessionStart = tipFirst_;
+  if (forceCounts_.accepted > 0) sessionStart = std::min(sessionStart, forceFirst_);
+  if (statusCounts_.accepted > 0) sessionStart = std::min(sessionStart, statusFirst_);
+  for (SimulationRestart restart : restarts_) {
+    restart.time -= sessionStart;
+    r.restarts.push_back(restart);
+  }
   const TipPathMetrics k = tip_.metrics();
   const ForceMetrics& f = force_.metrics();
   auto add = [&](const char* key, const char* unit, bool hasData, double value, const char* def) {

@@ -3,17 +3,27 @@
 // from the messages' header stamps. Writes DIR/assessment.yaml and DIR/assessment.md and
 // prints a summary. Exit codes: 0 ok, 1 the report could not be written, 2 bad usage,
 // unreadable bag or missing topics (one line on stderr).
+//
+// A bag without its index (the .bag.active a recorder killed with SIGKILL leaves) cannot be
+// opened by rosbag::Bag, which refuses unindexed bags: it is reindexed into a temporary copy
+// by `rosbag reindex` (the Python rosbag tool; the original is not touched), and what the
+// copy holds is assessed, saying so in one line (on stdout; errors go to stderr).
 #include <ros/message_traits.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <map>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -119,6 +129,82 @@ void checkTopics(const rosbag::Bag& bag, const std::string& path, const tt::Sess
   if (!missing.empty()) throw std::runtime_error(path + ": missing topics: " + missing);
 }
 
+namespace fs = std::filesystem;
+
+// The last non-empty line of a file ("" when there is none).
+std::string lastLine(const std::string& path) {
+  std::ifstream in(path);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (line.find_first_not_of(" \t\r") != std::string::npos) last = line;
+  return last;
+}
+
+// A temporary folder removed with everything in it when this goes out of scope.
+struct TemporaryFolder {
+  fs::path path;
+  TemporaryFolder() {
+    std::string pattern = (fs::temp_directory_path() / "assess_bag.XXXXXX").string();
+    if (!mkdtemp(pattern.data())) throw std::runtime_error("cannot create a temporary folder");
+    path = pattern;
+  }
+  ~TemporaryFolder() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+// Runs `rosbag reindex --output-dir DIR BAG` and returns the reindexed copy; throws with the
+// tool's last line when it fails.
+std::string reindexCopy(const std::string& bag, const fs::path& dir) {
+  const std::string log = (dir / "reindex.log").string();
+  const std::string out = dir.string();
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error(bag + ": cannot start rosbag reindex");
+  if (pid == 0) {
+    if (!std::freopen(log.c_str(), "w", stdout) || !std::freopen(log.c_str(), "a", stderr)) _exit(127);
+    execlp("rosbag", "rosbag", "reindex", "--quiet", "--output-dir", out.c_str(), bag.c_str(),
+           static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  int status = 0;
+  if (waitpid(pid, &status, 0) != pid || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    const std::string why = WIFEXITED(status) && WEXITSTATUS(status) == 127
+                                ? "rosbag not found (install python3-rosbag)"
+                                : lastLine(log);
+    throw std::runtime_error(bag + ": unindexed, and rosbag reindex failed: " + why);
+  }
+  const fs::path copy = dir / fs::path(bag).filename();
+  if (!fs::exists(copy)) throw std::runtime_error(bag + ": rosbag reindex wrote no copy");
+  return copy.string();
+}
+
+// Opens the bag; an unindexed one is reindexed into a copy in tmp first (said on stderr).
+void openBag(rosbag::Bag& bag, const std::string& path, std::unique_ptr<TemporaryFolder>& tmp) {
+  if (!fs::is_regular_file(path)) throw std::runtime_error(path + ": no such file");
+  try {
+    bag.open(path, rosbag::bagmode::Read);
+    return;
+  } catch (const rosbag::BagUnindexedException&) {
+  }
+  tmp = std::make_unique<TemporaryFolder>();
+  const std::string copy = reindexCopy(path, tmp->path);
+  std::printf("assess_bag: %s: unindexed (a recording that did not end cleanly); assessing a "
+               "reindexed copy of what it holds\n",
+              path.c_str());
+  bag.open(copy, rosbag::bagmode::Read);
+}
+
+// The message, or an exception naming the topic when the bag's definition does not match.
+template <class T>
+boost::shared_ptr<T> instance(const rosbag::MessageInstance& m, const std::string& path) {
+  boost::shared_ptr<T> msg = m.instantiate<T>();
+  if (!msg)
+    throw std::runtime_error(path + ": topic " + m.getTopic() + ": the recorded " + m.getDataType() +
+                             " does not match this build's definition (md5 " + m.getMD5Sum() + ")");
+  return msg;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -139,18 +225,19 @@ int main(int argc, char** argv) {
   std::size_t messages = 0;
   try {
     rosbag::Bag bag;
-    bag.open(options.bag, rosbag::bagmode::Read);
+    std::unique_ptr<TemporaryFolder> tmp;
+    openBag(bag, options.bag, tmp);
     checkTopics(bag, options.bag, options.topics);
     const tt::SessionTopics& t = options.topics;
     rosbag::View view(bag, rosbag::TopicQuery({t.tip, t.contact, t.status}));
     for (const rosbag::MessageInstance& m : view) {
       ++messages;
       if (m.getTopic() == t.tip)
-        feeder.feed(*m.instantiate<geometry_msgs::PoseStamped>());
+        feeder.feed(*instance<geometry_msgs::PoseStamped>(m, options.bag));
       else if (m.getTopic() == t.contact)
-        feeder.feed(*m.instantiate<tissue_trainer::ContactModel>());
+        feeder.feed(*instance<tissue_trainer::ContactModel>(m, options.bag));
       else
-        feeder.feed(*m.instantiate<tissue_trainer::TissueStatus>());
+        feeder.feed(*instance<tissue_trainer::TissueStatus>(m, options.bag));
     }
   } catch (const rosbag::BagException& e) {
     std::fprintf(stderr, "assess_bag: %s: cannot read the bag (%s)\n", options.bag.c_str(), e.what());

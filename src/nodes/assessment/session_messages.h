@@ -28,11 +28,15 @@ class SessionFeeder {
     const auto& p = m.pose.position;
     return assessor_.addTip(time(m.header.stamp), Eigen::Vector3d(p.x, p.y, p.z));
   }
-  // The force is f0 while in contact, zero otherwise.
+  // The force is f0 while in contact, zero otherwise. A sequence number that does not rise
+  // means a restarted simulation (each process numbers its models from 1).
   bool feed(const tissue_trainer::ContactModel& m) {
     const Eigen::Vector3d f = m.in_contact ? Eigen::Vector3d(m.force.x, m.force.y, m.force.z)
                                            : Eigen::Vector3d::Zero();
-    return assessor_.addForce(time(m.header.stamp), f, m.in_contact);
+    const bool restarted = haveSequence_ && m.sequence <= lastSequence_;
+    haveSequence_ = true;
+    lastSequence_ = m.sequence;
+    return assessor_.addForce(time(m.header.stamp), f, m.in_contact, restarted);
   }
   bool feed(const tissue_trainer::TissueStatus& m) {
     return assessor_.addStatus(time(m.header.stamp), m.max_strain, m.strained_volume);
@@ -52,6 +56,8 @@ class SessionFeeder {
 
   SessionAssessor assessor_;
   bool haveReference_ = false;
+  bool haveSequence_ = false;
+  std::uint64_t lastSequence_ = 0;
   std::uint32_t referenceSec_ = 0;
 };
 

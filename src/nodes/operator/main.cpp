@@ -2,6 +2,10 @@
 // the task script (~task) through a virtual hand that the device force (/device/servo_cf)
 // pushes, solves the trocar IK for the hand position and publishes what a haptic device
 // would: /device/measured_js, /device/measured_cp and the deadman /device/enable.
+//
+// As a device driver must, it protects the hand on its own: a force older than force_timeout
+// (the bridge died or the network failed) counts as zero, and the magnitude of what it
+// receives is clamped to force_limit (anyone on the ROS network can publish /device/servo_cf).
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/WrenchStamped.h>
 #include <ros/ros.h>
@@ -27,7 +31,7 @@ constexpr int kMaxLagTicks = 100;  // a tick this many periods late restarts the
 
 struct Settings {
   std::string task;
-  double rate, startDelay, forceTimeout, roll;
+  double rate, startDelay, forceTimeout, forceLimit, roll;
   bool shutdownAtEnd;
   HandGains gains;
 };
@@ -38,6 +42,7 @@ Settings readSettings(const ros::NodeHandle& pn) {
   s.rate = numberParam(pn, "rate", 1000.0, 1.0, 10000.0);
   s.startDelay = numberParam(pn, "start_delay", 1.0, 0.0, 3600.0);
   s.forceTimeout = numberParam(pn, "force_timeout", 0.05, 0.0, 10.0);
+  s.forceLimit = numberParam(pn, "force_limit", 5.0, 0.0, 1000.0);
   s.roll = numberParam(pn, "roll", 0.0, -M_PI, M_PI);
   const std::string end = stringParam(pn, "on_end", "hold");
   if (end != "hold" && end != "shutdown")
@@ -131,7 +136,13 @@ class Operator {
       ROS_WARN_THROTTLE(2.0, "operator: %lu non-finite forces on /device/servo_cf ignored", badForces_);
       return;
     }
-    force_ = f;
+    const double magnitude = f.norm();
+    if (magnitude > settings_.forceLimit) {
+      ++clampedForces_;
+      ROS_WARN_THROTTLE(2.0, "operator: %lu forces above force_limit %.2f N clamped (last %.2f N)",
+                        clampedForces_, settings_.forceLimit, magnitude);
+    }
+    force_ = magnitude > settings_.forceLimit ? Eigen::Vector3d(f * (settings_.forceLimit / magnitude)) : f;
     forceTime_ = monotonicSeconds();
   }
 
@@ -177,7 +188,7 @@ class Operator {
   Eigen::Vector3d force_ = Eigen::Vector3d::Zero();
   double forceTime_ = -1e9;
   bool enabled_ = false, reportedEnd_ = false;
-  unsigned long badForces_ = 0, unreachable_ = 0, resyncs_ = 0;
+  unsigned long badForces_ = 0, clampedForces_ = 0, unreachable_ = 0, resyncs_ = 0;
   sensor_msgs::JointState js_;
   geometry_msgs::PoseStamped cp_;
   ros::Publisher jsPub_, cpPub_, enablePub_;

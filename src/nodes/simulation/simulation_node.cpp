@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 #include "node_params.h"
 #include "tissue_trainer/ContactModel.h"
@@ -13,10 +14,18 @@
 #include "tissue_trainer/core/error.h"
 #include "tissue_trainer/core/model/strain.h"
 #include "tissue_trainer/core/scene/scene_runner.h"
+#include "tissue_trainer/core/scene/state_snapshot.h"
 #include "urdf_tool.h"
 
 namespace tt_nodes {
 namespace {
+
+std::string defaultSnapshotPath() {
+  const char* rosHome = std::getenv("ROS_HOME");
+  const char* home = std::getenv("HOME");
+  const std::string dir = rosHome && *rosHome ? rosHome : std::string(home ? home : ".") + "/.ros";
+  return dir + "/simulation.snapshot";
+}
 
 Eigen::Isometry3d toEigen(const geometry_msgs::Transform& t) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
@@ -39,7 +48,59 @@ bool SimulationNode::readParams() {
          readNumber(pnh_, "marker_rate", params_.markerRate, 0.0, true) &&
          readNumber(pnh_, "damage_strain", params_.damageStrain, 0.0, true) &&
          readString(pnh_, "world_frame", params_.worldFrame, false) &&
-         readString(pnh_, "tip_frame", params_.tipFrame, false);
+         readString(pnh_, "tip_frame", params_.tipFrame, false) && readSnapshotParams();
+}
+
+bool SimulationNode::readSnapshotParams() {
+  params_.snapshotPath = defaultSnapshotPath();
+  if (!readString(pnh_, "snapshot_path", params_.snapshotPath, false) ||
+      !readNumber(pnh_, "snapshot_period", params_.snapshotPeriod, 0.0, false) ||
+      !readString(pnh_, "resume", params_.resume, false))
+    return false;
+  if (params_.resume != "snapshot" && params_.resume != "scene") {
+    ROS_FATAL("parameter %s: expected 'snapshot' or 'scene', got '%s'",
+              pnh_.resolveName("resume").c_str(), params_.resume.c_str());
+    return false;
+  }
+  return true;
+}
+
+void SimulationNode::resumeIfRestarted() {
+  int starts = 0;
+  if (pnh_.getParam("starts", starts) && starts > 0) restarts_ = starts;
+  pnh_.setParam("starts", restarts_ + 1);
+  if (restarts_ == 0) return;  // the first start of the session takes the scene
+  if (params_.resume == "scene") {
+    startedFrom_ = "scene (~resume is 'scene')";
+    ROS_WARN("simulation: restart %d: starting from the scene (~resume is 'scene')", restarts_);
+    return;
+  }
+  try {
+    const tt::State s = tt::readStateSnapshot(params_.snapshotPath, fingerprint_, scene_.system.numNodes());
+    scene_.system.state = s;
+    resumedAt_ = s.t;
+    startedFrom_ = "snapshot at t = " + std::to_string(s.t) + " s";
+    ROS_WARN("simulation: restart %d: resumed from %s at t = %.3f s", restarts_,
+             params_.snapshotPath.c_str(), s.t);
+  } catch (const std::exception& e) {
+    startedFrom_ = std::string("scene (snapshot refused: ") + e.what() + ")";
+    ROS_WARN("simulation: restart %d: %s; starting from the scene instead", restarts_, e.what());
+  }
+}
+
+void SimulationNode::writeSnapshot() {
+  if (params_.snapshotPeriod <= 0.0 || !stable_) return;
+  const ros::WallTime now = ros::WallTime::now();
+  if ((now - lastSnapshot_).toSec() < params_.snapshotPeriod) return;
+  lastSnapshot_ = now;
+  try {
+    tt::writeStateSnapshot(params_.snapshotPath, scene_.system.state, fingerprint_);
+    ++snapshotsWritten_;
+  } catch (const std::exception& e) {
+    ++snapshotFailures_;
+    ROS_ERROR_THROTTLE(10.0, "simulation: state snapshot not written (%lu failures): %s",
+                       static_cast<unsigned long>(snapshotFailures_), e.what());
+  }
 }
 
 bool SimulationNode::start() {
@@ -50,6 +111,7 @@ bool SimulationNode::start() {
     ROS_FATAL("parameter %s: %s", pnh_.resolveName("scene").c_str(), e.what());
     return false;
   }
+  resumeIfRestarted();
   if (nh_.hasParam("robot_description")) {
     std::string xml;
     if (!nh_.getParam("robot_description", xml)) {
@@ -79,9 +141,11 @@ bool SimulationNode::start() {
   loadSrv_ = pnh_.advertiseService("load_scene", &SimulationNode::onLoadScene, this);
   stepTimer_ = nh_.createSteadyTimer(ros::WallDuration(1.0 / params_.rate), &SimulationNode::step, this);
   diagnosticsTimer_ = nh_.createSteadyTimer(ros::WallDuration(1.0), &SimulationNode::publishDiagnostics, this);
-  ROS_INFO("simulation: scene '%s' (%d nodes, %d tets, %s), %.0f Hz, %zu tool shapes",
+  ROS_INFO("simulation: scene '%s' (%d nodes, %d tets, %s), %.0f Hz, %zu tool shapes; "
+           "snapshot every %.2f s to %s",
            scene_.name.c_str(), scene_.system.numNodes(), scene_.system.mesh.numTets(),
-           scene_.contact ? "contact" : "no contact", params_.rate, toolShapes_.size());
+           scene_.contact ? "contact" : "no contact", params_.rate, toolShapes_.size(),
+           params_.snapshotPeriod, params_.snapshotPath.c_str());
   return true;
 }
 
@@ -108,6 +172,7 @@ void SimulationNode::loadScene(const std::string& path) {
   scene_ = std::move(loaded);
   for (const std::string& note : scene_.notes) ROS_INFO("scene: %s", note.c_str());
   initialState_ = scene_.system.state;
+  fingerprint_ = tt::sceneFingerprint(scene_.name, scene_.system.mesh);
   display_ = tt::DisplaySurface(scene_);
   trianglesChanged_ = true;
   lastMarker_ = ros::WallTime();
@@ -205,6 +270,7 @@ void SimulationNode::step(const ros::SteadyTimerEvent&) {
     publishMarker(stamp);
     lastMarker_ = ros::WallTime::now();
   }
+  writeSnapshot();
   const double stepWall = (ros::WallTime::now() - wallStart).toSec();
   publishStatus(report, stepWall, stamp);
 }
@@ -321,6 +387,8 @@ void SimulationNode::publishStatus(const tt::StepReport& report, double stepWall
   msg.guard_halvings = guard_.halvings;
   msg.guard_failures = guard_.failures;
   msg.guard_last_reason = guard_.lastReason;
+  msg.restarts = static_cast<std::uint32_t>(restarts_);
+  msg.resumed_at = resumedAt_;
   statusPub_.publish(msg);
 }
 
@@ -344,6 +412,7 @@ void SimulationNode::publishDiagnostics(const ros::SteadyTimerEvent&) {
   s.message = !stable_ ? "integrator failed: " + failure_
               : slow ? "behind real time"
               : (scene_.contact && !contact_) ? "no instrument (no /robot_description)"
+              : restarts_ > 0 ? "running after restart " + std::to_string(restarts_) + ", from the " + startedFrom_
                                               : "running";
   auto add = [&s](const std::string& key, const std::string& value) {
     diagnostic_msgs::KeyValue kv;
@@ -369,6 +438,11 @@ void SimulationNode::publishDiagnostics(const ros::SteadyTimerEvent&) {
   add("contact_force_n", std::to_string(lastContact_.f0.norm()));
   add("max_strain", std::to_string(maxStrain_));
   add("tool", toolProblem_.empty() ? "ok" : toolProblem_);
+  add("restarts", std::to_string(restarts_));
+  add("started_from", startedFrom_);
+  add("snapshot_path", params_.snapshotPath);
+  add("snapshots_written", std::to_string(snapshotsWritten_));
+  add("snapshot_failures", std::to_string(snapshotFailures_));
   add("jaw", haveJaw_ ? std::to_string(jawAngle_) : "no reading (open)");
   array.status.push_back(s);
   diagnosticsPub_.publish(array);

@@ -33,6 +33,11 @@ struct SimulationParams {
   double damageStrain = 0.3;    // Green-strain norm counted as damage
   std::string worldFrame = "world";
   std::string tipFrame = "instrument_tip";
+  // Crash survival: the state is written to snapshotPath every snapshotPeriod s (0: never);
+  // a restarted process (~starts > 0) continues from it unless resume is "scene".
+  std::string snapshotPath;     // default: ROS_HOME (or ~/.ros)/simulation.snapshot
+  double snapshotPeriod = 0.5;  // s
+  std::string resume = "snapshot";
 };
 
 class SimulationNode {
@@ -43,9 +48,13 @@ class SimulationNode {
 
  private:
   bool readParams();
+  bool readSnapshotParams();
   // Replaces the scene (and rebuilds the contact) or throws tt::InputError.
   void loadScene(const std::string& path);
   void buildContact();
+  // Counts this start in ~starts and, on a restart, continues from the last snapshot.
+  void resumeIfRestarted();
+  void writeSnapshot();
   void readRobotDescription();
   void step(const ros::SteadyTimerEvent&);
   bool readTool(Eigen::Isometry3d& tip, std::vector<Eigen::Isometry3d>& links);
@@ -86,6 +95,14 @@ class SimulationNode {
   bool stable_ = true;
   std::string failure_;
   std::string toolProblem_;
+
+  // Crash survival (see SimulationParams).
+  std::uint64_t fingerprint_ = 0;
+  int restarts_ = 0;            // processes started before this one in the session
+  double resumedAt_ = -1.0;     // simulation time this process continued from (-1: the scene)
+  std::string startedFrom_ = "scene";
+  ros::WallTime lastSnapshot_;
+  std::uint64_t snapshotsWritten_ = 0, snapshotFailures_ = 0;
 
   // Statistics for the status and the diagnostics.
   std::deque<std::pair<double, double>> clock_;  // (wall s, simulation s) over the last second

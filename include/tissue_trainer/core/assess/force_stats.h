@@ -24,7 +24,9 @@ class ForceStats {
   ForceStats(double threshold, double maxGap) : threshold_(threshold), maxGap_(maxGap) {}
 
   // Accepts a sample later than the previous one (the caller checks order and finiteness).
-  void add(double t, const Eigen::Vector3d& f, bool inContact);
+  // afterGap: the source restarted before this sample, so the previous one holds over no time
+  // (as a gap longer than max_gap).
+  void add(double t, const Eigen::Vector3d& f, bool inContact, bool afterGap = false);
   const ForceMetrics& metrics() const { return m_; }
 
  private:

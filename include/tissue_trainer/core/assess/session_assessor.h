@@ -30,10 +30,18 @@ struct Metric {
   std::string definition;
 };
 
+// A restart of the simulation seen in the force stream (its contact-model sequence began
+// again): the metrics skip the time without contact models before it.
+struct SimulationRestart {
+  double time = 0.0;  // s since the session's first sample: the new process's first model
+  double gap = 0.0;   // s since the last model of the process that died
+};
+
 struct AssessmentReport {
   AssessmentSettings settings;
   StreamCounts tip, force, status;
   std::vector<Metric> metrics;  // in report order
+  std::vector<SimulationRestart> restarts;
   const Metric* find(const std::string& key) const;
 };
 
@@ -43,7 +51,10 @@ class SessionAssessor {
 
   // Each returns false (and counts why) when the sample is rejected.
   bool addTip(double t, const Eigen::Vector3d& position);
-  bool addForce(double t, const Eigen::Vector3d& force, bool inContact);
+  // simulationRestarted: this is the first sample of a restarted simulation (the gap before
+  // it carries no weight and is reported).
+  bool addForce(double t, const Eigen::Vector3d& force, bool inContact,
+                bool simulationRestarted = false);
   bool addStatus(double t, double maxStrain, double strainedVolume);
 
   AssessmentReport report() const;
@@ -56,6 +67,8 @@ class SessionAssessor {
   ForceStats force_;
   StreamCounts tipCounts_, forceCounts_, statusCounts_;
   double tipFirst_ = 0.0, tipLast_ = 0.0, forceLast_ = 0.0, statusLast_ = 0.0;
+  double forceFirst_ = 0.0, statusFirst_ = 0.0;
+  std::vector<SimulationRestart> restarts_;  // times relative to the stream, not yet the session
   double peakStrain_ = 0.0, peakStrainedVolume_ = 0.0;
 };
 

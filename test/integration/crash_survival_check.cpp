@@ -1,0 +1,237 @@
+// Crash survival of the training graph (crash_survival.test): with the tool pressed into the
+// liver, the simulation is killed with SIGKILL. The haptic bridge's wrench must stay finite,
+// bounded and at 1 kHz and fade to zero; the simulation must respawn within ~2 s and continue
+// from its snapshot (its time near where it died); the force must come back smoothly; the
+// bag must keep growing and the assessment report must mark the restart.
+#include <geometry_msgs/WrenchStamped.h>
+#include <gtest/gtest.h>
+#include <ros/master.h>
+#include <ros/network.h>
+#include <ros/ros.h>
+#include <std_srvs/Trigger.h>
+#include <tissue_trainer/ContactModel.h>
+#include <tissue_trainer/TissueStatus.h>
+#include <xmlrpcpp/XmlRpcClient.h>
+
+#include <signal.h>
+#include <sys/types.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+double now() { return ros::WallTime::now().toSec(); }
+
+struct Wrench {
+  double arrival, stamp, norm;
+  bool finite;
+};
+struct Model {
+  double arrival;
+  bool inContact;
+  std::uint64_t sequence;
+};
+struct Status {
+  double arrival, simulationTime, resumedAt;
+  std::uint32_t restarts;
+};
+
+struct Watch {
+  std::mutex mutex;
+  std::vector<Wrench> wrenches;
+  std::vector<Model> models;
+  std::vector<Status> statuses;
+};
+
+// The pid of a node, through the master's lookupNode and the node's getPid; -1 if unknown.
+int pidOf(const std::string& node) {
+  XmlRpc::XmlRpcValue args, result, payload;
+  args[0] = ros::this_node::getName();
+  args[1] = node;
+  if (!ros::master::execute("lookupNode", args, result, payload, false)) return -1;
+  std::string host;
+  uint32_t port = 0;
+  if (!ros::network::splitURI(static_cast<std::string>(payload), host, port)) return -1;
+  XmlRpc::XmlRpcClient client(host.c_str(), static_cast<int>(port), "/");
+  XmlRpc::XmlRpcValue request, response;
+  request[0] = ros::this_node::getName();
+  if (!client.execute("getPid", request, response) || response.size() < 3) return -1;
+  return static_cast<int>(response[2]);
+}
+
+double param(const std::string& name) {
+  double v = std::nan("");
+  ros::param::get("~" + name, v);
+  return v;
+}
+
+std::uintmax_t fileSize(const std::string& path) {
+  std::error_code ec;
+  const std::uintmax_t n = std::filesystem::file_size(path, ec);
+  return ec ? 0 : n;
+}
+
+TEST(CrashSurvival, BridgeFadesSimulationResumesFromSnapshotRecordingAndReportGoOn) {
+  ros::NodeHandle nh;
+  Watch w;
+  auto sub1 = nh.subscribe<geometry_msgs::WrenchStamped>(
+      "/device/servo_cf", 2000, [&](const geometry_msgs::WrenchStamped::ConstPtr& m) {
+        const auto& f = m->wrench.force;
+        const bool finite = std::isfinite(f.x) && std::isfinite(f.y) && std::isfinite(f.z);
+        std::lock_guard<std::mutex> lock(w.mutex);
+        w.wrenches.push_back({now(), m->header.stamp.toSec(), std::sqrt(f.x * f.x + f.y * f.y + f.z * f.z), finite});
+      }, ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
+  auto sub2 = nh.subscribe<tissue_trainer::ContactModel>(
+      "/tissue/contact", 200, [&](const tissue_trainer::ContactModel::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(w.mutex);
+        w.models.push_back({now(), static_cast<bool>(m->in_contact), m->sequence});
+      }, ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
+  auto sub3 = nh.subscribe<tissue_trainer::TissueStatus>(
+      "/tissue/status", 200, [&](const tissue_trainer::TissueStatus::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(w.mutex);
+        w.statuses.push_back({now(), m->simulation_time, m->resumed_at, m->restarts});
+      });
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+
+  const double maxForce = param("max_force"), modelTimeout = param("model_timeout");
+  const double fadeTime = param("fade_time"), rate = param("rate");
+  ASSERT_TRUE(std::isfinite(maxForce) && std::isfinite(modelTimeout) && std::isfinite(fadeTime));
+  std::string bag, assessmentDir;
+  ASSERT_TRUE(ros::param::get("~bag", bag) && ros::param::get("~assessment_dir", assessmentDir));
+
+  // 1. Wait for a steady press: in contact and a force at the device for 1 s.
+  double pressedSince = -1.0;
+  const double waitStart = now();
+  while (now() - waitStart < 60.0) {
+    ros::WallDuration(0.05).sleep();
+    std::lock_guard<std::mutex> lock(w.mutex);
+    const bool pressed = !w.models.empty() && w.models.back().inContact && !w.wrenches.empty() &&
+                         w.wrenches.back().norm > 0.02;
+    if (!pressed) pressedSince = -1.0;
+    else if (pressedSince < 0.0) pressedSince = now();
+    if (pressedSince > 0.0 && now() - pressedSince > 1.0) break;
+  }
+  ASSERT_GT(pressedSince, 0.0) << "the tool never pressed the liver steadily";
+
+  // 2. SIGKILL the simulation.
+  const int pid = pidOf("/simulation");
+  ASSERT_GT(pid, 0) << "no pid for /simulation";
+  double diedAt = 0.0, forceBefore = 0.0;
+  std::size_t modelsBefore = 0, wrenchesBefore = 0;
+  {
+    std::lock_guard<std::mutex> lock(w.mutex);
+    diedAt = w.statuses.back().simulationTime;
+    forceBefore = w.wrenches.back().norm;
+    modelsBefore = w.models.size();
+    wrenchesBefore = w.wrenches.size();
+  }
+  const double killWall = now();
+  ASSERT_EQ(kill(pid, SIGKILL), 0);
+  const std::uintmax_t bagAtKill = fileSize(bag);
+
+  // 3. Watch for 5 s.
+  ros::WallDuration(5.0).sleep();
+  std::vector<Wrench> wrenches;
+  std::vector<Model> models;
+  std::vector<Status> statuses;
+  {
+    std::lock_guard<std::mutex> lock(w.mutex);
+    wrenches.assign(w.wrenches.begin() + static_cast<long>(wrenchesBefore), w.wrenches.end());
+    models.assign(w.models.begin(), w.models.end());
+    statuses = w.statuses;
+  }
+
+  // The last model of the process that died and the first of the new one (its sequence
+  // starts again).
+  double lastOldModel = 0.0, firstNewModel = -1.0;
+  for (std::size_t i = std::max<std::size_t>(modelsBefore, 1); i < models.size(); ++i)
+    if (models[i].sequence <= models[i - 1].sequence) {
+      lastOldModel = models[i - 1].arrival;
+      firstNewModel = models[i].arrival;
+      break;
+    }
+  ASSERT_GT(firstNewModel, 0.0) << "no contact model from a restarted simulation within 5 s";
+  const double gap = firstNewModel - lastOldModel;
+  std::printf("crash_survival: force before the kill %.3f N; contact-model gap %.3f s "
+              "(kill to the first new model %.3f s)\n", forceBefore, gap, firstNewModel - killWall);
+  EXPECT_LT(firstNewModel - killWall, 2.5);
+
+  // The bridge: finite, bounded, ~1 kHz throughout, zero from model_timeout + fade_time after
+  // the last model until the new models.
+  const double zeroFrom = lastOldModel + modelTimeout + fadeTime + 0.02;
+  int nonFinite = 0, above = 0, nonZeroInGap = 0, inGap = 0;
+  for (const Wrench& x : wrenches) {
+    if (!x.finite) ++nonFinite;
+    if (x.norm > maxForce + 1e-9) ++above;
+    if (x.arrival > zeroFrom && x.arrival < firstNewModel) {
+      ++inGap;
+      if (x.norm != 0.0) ++nonZeroInGap;
+    }
+  }
+  EXPECT_EQ(nonFinite, 0);
+  EXPECT_EQ(above, 0);
+  EXPECT_GT(inGap, 0);
+  EXPECT_EQ(nonZeroInGap, 0) << "of " << inGap << " wrenches between the fade and the restart";
+  ASSERT_GE(wrenches.size(), 2u);
+  const double span = wrenches.back().stamp - wrenches.front().stamp;
+  const double measuredRate = (wrenches.size() - 1) / span;
+  std::printf("crash_survival: bridge %.1f Hz over the %.2f s after the kill\n", measuredRate, span);
+  EXPECT_GT(measuredRate, 0.95 * rate);
+
+  // The force comes back, smoothly (the bridge's resume_time ramp, no step).
+  double peakAfter = 0.0, largestStep = 0.0;
+  for (std::size_t i = 1; i < wrenches.size(); ++i) {
+    if (wrenches[i].arrival < firstNewModel) continue;
+    peakAfter = std::max(peakAfter, wrenches[i].norm);
+    largestStep = std::max(largestStep, std::abs(wrenches[i].norm - wrenches[i - 1].norm));
+  }
+  std::printf("crash_survival: force after the restart up to %.3f N, largest step %.4f N\n",
+              peakAfter, largestStep);
+  EXPECT_GT(peakAfter, 0.02) << "no force after the restart";
+  EXPECT_LT(largestStep, 0.1 * peakAfter + 1e-3);
+
+  // The simulation resumed from its snapshot: time near where it died, not from 0.
+  const Status* resumed = nullptr;
+  for (const Status& s : statuses)
+    if (s.restarts >= 1) {
+      resumed = &s;
+      break;
+    }
+  ASSERT_NE(resumed, nullptr) << "no status from a restarted simulation";
+  std::printf("crash_survival: died at t = %.3f s, resumed at t = %.3f s (first status %.3f s "
+              "after the kill)\n", diedAt, resumed->resumedAt, resumed->arrival - killWall);
+  EXPECT_GE(resumed->resumedAt, diedAt - 0.75);
+  EXPECT_LE(resumed->resumedAt, diedAt + 1e-9);
+  EXPECT_GE(resumed->simulationTime, resumed->resumedAt);
+  EXPECT_LT(resumed->simulationTime, diedAt + 0.5);
+
+  // The recorder kept recording, and the assessment marks the restart.
+  const std::uintmax_t bagNow = fileSize(bag);
+  std::printf("crash_survival: bag %s %ju -> %ju bytes over the 5 s\n", bag.c_str(), bagAtKill, bagNow);
+  EXPECT_GT(bagNow, bagAtKill + 10000);
+  std_srvs::Trigger write;
+  ASSERT_TRUE(ros::service::call("/assessment/write", write)) << "no /assessment/write";
+  ASSERT_TRUE(write.response.success) << write.response.message;
+  std::ifstream md(assessmentDir + "/assessment.md");
+  std::stringstream text;
+  text << md.rdbuf();
+  EXPECT_NE(text.str().find("Simulation restarted at t = "), std::string::npos) << text.str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "crash_survival_check");
+  ros::NodeHandle nh;
+  return RUN_ALL_TESTS();
+}
