@@ -111,7 +111,8 @@ class Probe {
     writeFile(d + "/contact.csv", "topic,recv,stamp,sequence,in_contact,f0\n", contact_);
     writeFile(d + "/status.csv",
               "recv,rate,period_p99,model_age,has_model,watchdog_tripped,watchdog_trips,gain,ticks,"
-              "models_accepted,models_stale,force_clamped,rate_limited,non_finite_forces,fx,fy,fz\n",
+              "models_accepted,models_stale,force_clamped,rate_limited,non_finite_forces,device_fresh,"
+              "enabled,fx,fy,fz\n",
               status_);
     writeFile(d + "/enable.csv", "recv,enabled\n", enable_);
     std::vector<std::string> rows;
@@ -158,7 +159,8 @@ class Probe {
                             double(m.watchdog_tripped), double(m.watchdog_trips), m.gain,
                             double(m.ticks), double(m.models_accepted), double(m.models_stale),
                             double(m.force_clamped), double(m.rate_limited),
-                            double(m.non_finite_forces), m.force.x, m.force.y, m.force.z}));
+                            double(m.non_finite_forces), double(m.device_fresh),
+                            double(m.enabled), m.force.x, m.force.y, m.force.z}));
   }
   void onEnable(const std_msgs::Bool& m) { enable_.push_back(join({now(), m.data ? 1.0 : 0.0})); }
   void onAny(const std::string& topic) {
