@@ -324,7 +324,7 @@ int main(int argc, char** argv) {
     std::cerr << e.what() << "\n";
     return kBadInput;
   } catch (const UsageError& e) {
-    std::cerr << "tissue_cli: " << e.what() << "\n" << kUsage;
+    std::cerr << "tissue_cli: " << e.what() << " (tissue_cli --help for usage)\n";
     return kBadInput;
   } catch (const std::exception& e) {
     std::cerr << "tissue_cli: " << e.what() << "\n";
