@@ -227,6 +227,15 @@ int printForces(const std::vector<const tt::ForceModel*>& models, const tt::Spar
   return kOk;
 }
 
+// printForces at the --deformed positions, with the --stiffness-times direction when given.
+int printForcesAt(const Arguments& args, const std::vector<const tt::ForceModel*>& models,
+                  const tt::SparsePattern& pattern, int numNodes) {
+  const Eigen::VectorXd x = readNodeVectors(args.text("deformed"), numNodes, "positions");
+  if (!args.has("stiffness-times")) return printForces(models, pattern, x, nullptr);
+  const Eigen::VectorXd d = readNodeVectors(args.text("stiffness-times"), numNodes, "direction");
+  return printForces(models, pattern, x, &d);
+}
+
 // The scene's elastic force models (its `force_models`; body loads such as gravity are left
 // out) on its placed mesh.
 int forcesOfScene(const Arguments& args) {
@@ -238,10 +247,7 @@ int forcesOfScene(const Arguments& args) {
   std::vector<const tt::ForceModel*> models;
   for (const auto& m : s.models)
     if (!m->isBodyLoad()) models.push_back(m.get());
-  const Eigen::VectorXd x = readNodeVectors(args.text("deformed"), s.numNodes(), "positions");
-  if (!args.has("stiffness-times")) return printForces(models, s.pattern, x, nullptr);
-  const Eigen::VectorXd d = readNodeVectors(args.text("stiffness-times"), s.numNodes(), "direction");
-  return printForces(models, s.pattern, x, &d);
+  return printForcesAt(args, models, s.pattern, s.numNodes());
 }
 
 int forces(const Arguments& args) {
@@ -268,11 +274,8 @@ int forces(const Arguments& args) {
     for (const std::string& n : tt::registry().presetNames()) known += (known.empty() ? "" : ", ") + n;
     throw UsageError("--model expects one of: " + known + "; got '" + args.text("model") + "'");
   }
-  const Eigen::VectorXd x = readNodeVectors(args.text("deformed"), mesh.numNodes(), "positions");
-  const tt::SparsePattern pattern(mesh.numNodes(), mesh.tets);
-  if (!args.has("stiffness-times")) return printForces({model.get()}, pattern, x, nullptr);
-  const Eigen::VectorXd d = readNodeVectors(args.text("stiffness-times"), mesh.numNodes(), "direction");
-  return printForces({model.get()}, pattern, x, &d);
+  return printForcesAt(args, {model.get()}, tt::SparsePattern(mesh.numNodes(), mesh.tets),
+                       mesh.numNodes());
 }
 
 void printKeys(const std::vector<tt::KeyDoc>& keys) {

@@ -49,14 +49,13 @@ ChannelVerdict NetworkChannel::offer(std::uint64_t id, double t) {
 
   const NetworkProfile& p = profile_;
   bool held = false;
-  if (!(outageStarted_ && t < outageEnd_) && uOutage < p.burstProbability) {
+  if (t >= outageEnd_ && uOutage < p.burstProbability) {
     // The outage's length reuses the draw that started it (uOutage / burstProbability is
     // uniform in [0, 1) given that it started).
     outageEnd_ = t + p.burstMin + (p.burstMax - p.burstMin) * (uOutage / p.burstProbability);
-    outageStarted_ = true;
     ++counters_.outages;
   }
-  if (outageStarted_ && t < outageEnd_) {
+  if (t < outageEnd_) {
     if (p.burstMode == BurstMode::kDrop) {
       ++counters_.burstDropped;
       return ChannelVerdict::kBurstDropped;

@@ -16,9 +16,10 @@ std::string describe(const YAML::Node& node) {
   }
 }
 
-std::string joinWords(std::initializer_list<const char*> words) {
+template <class Words>
+std::string joinWords(const Words& words) {
   std::string out;
-  for (const char* w : words) out += (out.empty() ? "" : ", ") + std::string(w);
+  for (const auto& w : words) out += (out.empty() ? "" : ", ") + std::string(w);
   return out;
 }
 
@@ -39,12 +40,9 @@ void YamlEntry::expectMap(const std::vector<std::string>& allowed) const {
     const std::string key = item.first.Scalar();
     bool known = false;
     for (const std::string& a : allowed) known = known || key == a;
-    if (!known) {
-      std::string list;
-      for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
+    if (!known)
       YamlEntry(item.first, path_.empty() ? key : path_ + "." + key, file_)
-          .fail("unknown key '" + key + "' (expected one of: " + list + ")");
-    }
+          .fail("unknown key '" + key + "' (expected one of: " + joinWords(allowed) + ")");
   }
 }
 

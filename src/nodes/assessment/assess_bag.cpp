@@ -179,7 +179,7 @@ std::string reindexCopy(const std::string& bag, const fs::path& dir) {
   return copy.string();
 }
 
-// Opens the bag; an unindexed one is reindexed into a copy in tmp first (said on stderr).
+// Opens the bag; an unindexed one is reindexed into a copy in tmp first (said on stdout).
 void openBag(rosbag::Bag& bag, const std::string& path, std::unique_ptr<TemporaryFolder>& tmp) {
   if (!fs::is_regular_file(path)) throw std::runtime_error(path + ": no such file");
   try {

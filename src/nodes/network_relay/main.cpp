@@ -29,8 +29,8 @@ class NetworkRelay {
  public:
   NetworkRelay(ros::NodeHandle& nh, const RelayParams& params)
       : nh_(nh), channel_(params.profile, params.queue) {
-    sub_ = nh_.subscribe<Message>("in", 1000, &NetworkRelay::onMessage, this,
-                                  ros::TransportHints().tcpNoDelay());
+    sub_ = nh_.subscribe("in", 1000, &NetworkRelay::onMessage, this,
+                         ros::TransportHints().tcpNoDelay());
     diagnosticsPub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
     diagnosticsTimer_ = nh_.createWallTimer(ros::WallDuration(1.0),
                                             [this](const ros::WallTimerEvent&) { publishDiagnostics(); });

@@ -130,7 +130,7 @@ class Operator {
 
  private:
   void onForce(const geometry_msgs::WrenchStamped& msg) {
-    const Eigen::Vector3d f(msg.wrench.force.x, msg.wrench.force.y, msg.wrench.force.z);
+    Eigen::Vector3d f(msg.wrench.force.x, msg.wrench.force.y, msg.wrench.force.z);
     if (!f.allFinite()) {
       ++badForces_;
       ROS_WARN_THROTTLE(2.0, "operator: %lu non-finite forces on /device/servo_cf ignored", badForces_);
@@ -141,8 +141,9 @@ class Operator {
       ++clampedForces_;
       ROS_WARN_THROTTLE(2.0, "operator: %lu forces above force_limit %.2f N clamped (last %.2f N)",
                         clampedForces_, settings_.forceLimit, magnitude);
+      f *= settings_.forceLimit / magnitude;
     }
-    force_ = magnitude > settings_.forceLimit ? Eigen::Vector3d(f * (settings_.forceLimit / magnitude)) : f;
+    force_ = f;
     forceTime_ = monotonicSeconds();
   }
 

@@ -22,6 +22,7 @@
 // Time is an explicit input; nothing here reads a clock.
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -86,8 +87,7 @@ class NetworkChannel {
   std::mt19937_64 rng_;
   std::vector<Flight> queue_;  // a min-heap on (due, order)
   std::uint64_t order_ = 0;
-  double outageEnd_ = -1.0;    // s; no outage before this time
-  bool outageStarted_ = false;
+  double outageEnd_ = -std::numeric_limits<double>::infinity();  // s; an outage lasts until then
   double lastOrdered_ = -1e300;  // delivery time of the last message of the ordered stream
   ChannelCounters counters_;
 };
