@@ -109,7 +109,8 @@ TEST(Registry, TypesNamedInTheDocumentationAreRegistered) {
   std::vector<fs::path> pages{kRoot / "README.md"};
   for (const auto& file : fs::directory_iterator(kRoot / "docs"))
     if (file.path().extension() == ".md") pages.push_back(file.path());
-  const std::regex typeLine(R"(\btype:\s*([a-z_]+(\s*\|\s*[a-z_]+)*))");
+  // A YAML key `type:`, not the `...].type:` key path of a quoted error message.
+  const std::regex typeLine(R"((?:^|[^.\w])type:[ \t]*([a-z_]+([ \t]*\|[ \t]*[a-z_]+)*))");
   const std::regex word("[a-z_]+");
   int checked = 0;
   for (const fs::path& page : pages) {
