@@ -181,11 +181,12 @@ std::string reindexCopy(const std::string& bag, const fs::path& dir) {
 
 // Opens the bag; an unindexed one is reindexed into a copy in tmp first (said on stdout).
 void openBag(rosbag::Bag& bag, const std::string& path, std::unique_ptr<TemporaryFolder>& tmp) {
-  if (!fs::is_regular_file(path)) throw std::runtime_error(path + ": no such file");
+  if (!fs::is_regular_file(path)) throw std::runtime_error(path + ": cannot read the bag (no such file)");
   try {
     bag.open(path, rosbag::bagmode::Read);
     return;
   } catch (const rosbag::BagUnindexedException&) {
+    bag.close();  // the refused bag stays open in `bag` otherwise
   }
   tmp = std::make_unique<TemporaryFolder>();
   const std::string copy = reindexCopy(path, tmp->path);
