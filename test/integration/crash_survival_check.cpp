@@ -104,7 +104,9 @@ TEST(CrashSurvival, BridgeFadesSimulationResumesFromSnapshotRecordingAndReportGo
 
   const double maxForce = param("max_force"), modelTimeout = param("model_timeout");
   const double fadeTime = param("fade_time"), rate = param("rate");
-  ASSERT_TRUE(std::isfinite(maxForce) && std::isfinite(modelTimeout) && std::isfinite(fadeTime));
+  const double resumeTime = param("resume_time"), maxForceRate = param("max_force_rate");
+  ASSERT_TRUE(std::isfinite(maxForce) && std::isfinite(modelTimeout) && std::isfinite(fadeTime) &&
+              std::isfinite(resumeTime) && std::isfinite(maxForceRate));
   std::string bag, assessmentDir;
   ASSERT_TRUE(ros::param::get("~bag", bag) && ros::param::get("~assessment_dir", assessmentDir));
 
@@ -187,17 +189,23 @@ TEST(CrashSurvival, BridgeFadesSimulationResumesFromSnapshotRecordingAndReportGo
   std::printf("crash_survival: bridge %.1f Hz over the %.2f s after the kill\n", measuredRate, span);
   EXPECT_GT(measuredRate, 0.95 * rate);
 
-  // The force comes back, smoothly (the bridge's resume_time ramp, no step).
-  double peakAfter = 0.0, largestStep = 0.0;
+  // The force comes back smoothly: over the bridge's resume ramp (resume_time after the first
+  // new model, with a margin) no tick changes it by more than a tenth of what it reaches; after
+  // it, the tissue's own dynamics move it, within the bridge's rate limit.
+  const double rampEnd = firstNewModel + resumeTime + 0.05;
+  double peakAfter = 0.0, rampStep = 0.0, largestStep = 0.0;
   for (std::size_t i = 1; i < wrenches.size(); ++i) {
     if (wrenches[i].arrival < firstNewModel) continue;
     peakAfter = std::max(peakAfter, wrenches[i].norm);
-    largestStep = std::max(largestStep, std::abs(wrenches[i].norm - wrenches[i - 1].norm));
+    const double step = std::abs(wrenches[i].norm - wrenches[i - 1].norm);
+    largestStep = std::max(largestStep, step);
+    if (wrenches[i].arrival <= rampEnd) rampStep = std::max(rampStep, step);
   }
-  std::printf("crash_survival: force after the restart up to %.3f N, largest step %.4f N\n",
-              peakAfter, largestStep);
+  std::printf("crash_survival: force after the restart up to %.3f N; largest step %.4f N in the "
+              "resume ramp, %.4f N in the 5 s\n", peakAfter, rampStep, largestStep);
   EXPECT_GT(peakAfter, 0.02) << "no force after the restart";
-  EXPECT_LT(largestStep, 0.1 * peakAfter + 1e-3);
+  EXPECT_LT(rampStep, 0.1 * peakAfter + 1e-3);
+  EXPECT_LE(largestStep, maxForceRate / rate + 1e-9);
 
   // The simulation resumed from its snapshot: time near where it died, not from 0.
   const Status* resumed = nullptr;
