@@ -9,7 +9,7 @@ import sys
 from xml.sax.saxutils import quoteattr
 
 STAMP_ALLOWANCE = 0.0002  # s: the bridge limits by its own tick length; the stamp comes after
-RECEIPT_ALLOWANCE = 0.005  # s: the bridge and the probe receive the same model a little apart
+RECEIPT_ALLOWANCE = 0.015  # s: the bridge and the probe receive the same model apart (separate TCP links from host A; the transport p99 was 28 ms)
 RETURN_WITHIN = 5.0        # s after the link is back: the models and the force must be back
 
 

@@ -124,7 +124,7 @@ class Probe {
  private:
   static std::string number(double v) {
     char buf[64];
-    std::snprintf(buf, sizeof buf, "%.9g", v);
+    std::snprintf(buf, sizeof buf, "%.17g", v);
     return buf;
   }
   static std::string join(std::initializer_list<double> values) {
