@@ -77,10 +77,12 @@ bin="$(catkin_find --first-only --libexec tissue_trainer network_probe 2>/dev/nu
 rm -rf "$work" && mkdir -p "$work/A" "$work/B"
 
 # host NAME ADDRESS COMMAND...: runs COMMAND on that host, with its own ROS_IP and ROS_HOME.
+# Started in the background, it execs (ip netns exec and env exec too), so $! is COMMAND itself
+# and the cleanup's SIGINT reaches roslaunch, which then stops its nodes.
 host() {
   local ns=$1 address=$2 name=$3
   shift 3
-  ip netns exec "$ns" env -u ROS_HOSTNAME ROS_IP="$address" \
+  exec ip netns exec "$ns" env -u ROS_HOSTNAME ROS_IP="$address" \
     ROS_MASTER_URI="http://$addr_a:$port" ROS_HOME="$work/$name" ROS_LOG_DIR="$work/$name/log" \
     "$@"
 }
