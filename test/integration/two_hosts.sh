@@ -121,8 +121,10 @@ sleep 1.0   # into the hold
 date +%s.%N >"$work/link_down"
 ip -n "$ns_b" link set "$veth_b" down || fail "cannot take the link down"
 sleep 1.0
-ip -n "$ns_b" link set "$veth_b" up || fail "cannot bring the link back up"
+# Stamped before the link comes up: a model that arrives at once must not count as one from
+# before the cut.
 date +%s.%N >"$work/link_up"
+ip -n "$ns_b" link set "$veth_b" up || fail "cannot bring the link back up"
 sleep 5.0   # recovery, still in the hold
 
 kill -INT "$probe_a" "$probe_b" 2>/dev/null
