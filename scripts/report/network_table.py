@@ -8,6 +8,8 @@ import math
 import os
 import sys
 
+import yaml
+
 STEP = 0.001          # s: both runs sampled on a 1 ms grid
 TASK_END = 7.0        # s: the palpation's last keyframe
 RECOVERED_WITHIN = 0.1  # N (+10 % of the reference force): the force tracks the reference again
@@ -21,12 +23,8 @@ def rows(path):
 
 
 def bridge_params(path):
-    params = {}
     with open(path) as f:
-        for line in f:
-            key, _, value = line.partition("#")[0].partition(":")
-            if value.strip():
-                params[key.strip()] = value.strip()
+        params = yaml.safe_load(f)
     return {k: float(params[k]) for k in ("max_force", "max_force_rate", "model_timeout")}
 
 

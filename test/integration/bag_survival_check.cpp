@@ -4,13 +4,10 @@
 // truncated and a garbage bag give exit code 2 and one error line, never a crash.
 #include <geometry_msgs/PoseStamped.h>
 #include <gtest/gtest.h>
-#include <ros/master.h>
-#include <ros/network.h>
 #include <ros/ros.h>
 #include <rosbag/bag.h>
 #include <signal.h>
 #include <sys/wait.h>
-#include <xmlrpcpp/XmlRpcClient.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -21,6 +18,7 @@
 #include <random>
 #include <string>
 
+#include "node_api.h"
 #include "tissue_trainer/ContactModel.h"
 #include "tissue_trainer/TissueStatus.h"
 
@@ -38,20 +36,6 @@ bool waitFor(const std::function<bool()>& done, double seconds) {
   return done();
 }
 
-int pidOf(const std::string& node) {
-  XmlRpc::XmlRpcValue args, result, payload;
-  args[0] = ros::this_node::getName();
-  args[1] = node;
-  if (!ros::master::execute("lookupNode", args, result, payload, false)) return -1;
-  std::string host;
-  std::uint32_t port = 0;
-  if (!ros::network::splitURI(static_cast<std::string>(payload), host, port)) return -1;
-  XmlRpc::XmlRpcClient client(host.c_str(), static_cast<int>(port), "/");
-  XmlRpc::XmlRpcValue call, reply;
-  call[0] = ros::this_node::getName();
-  if (!client.execute("getPid", call, reply) || reply.size() < 3) return -1;
-  return static_cast<int>(reply[2]);
-}
 
 std::string besideMe(const std::string& exe) {
   return (fs::read_symlink("/proc/self/exe").parent_path() / exe).string();
@@ -117,7 +101,7 @@ TEST(BagSurvival, AKilledRecordingIsAssessedAndBadBagsGiveOneLine) {
   fs::create_directories(session);
 
   publishSession(3.0);
-  const int pid = pidOf("/record");
+  const int pid = tt_test::nodePid("/record");
   ASSERT_GT(pid, 0) << "no pid for /record";
   ASSERT_EQ(kill(pid, SIGKILL), 0);
   const std::string active = session + ".bag.active";

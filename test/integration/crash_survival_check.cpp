@@ -5,13 +5,10 @@
 // bag must keep growing and the assessment report must mark the restart.
 #include <geometry_msgs/WrenchStamped.h>
 #include <gtest/gtest.h>
-#include <ros/master.h>
-#include <ros/network.h>
 #include <ros/ros.h>
 #include <std_srvs/Trigger.h>
 #include <tissue_trainer/ContactModel.h>
 #include <tissue_trainer/TissueStatus.h>
-#include <xmlrpcpp/XmlRpcClient.h>
 
 #include <signal.h>
 #include <sys/types.h>
@@ -25,6 +22,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "node_api.h"
 
 namespace {
 
@@ -51,21 +50,6 @@ struct Watch {
   std::vector<Status> statuses;
 };
 
-// The pid of a node, through the master's lookupNode and the node's getPid; -1 if unknown.
-int pidOf(const std::string& node) {
-  XmlRpc::XmlRpcValue args, result, payload;
-  args[0] = ros::this_node::getName();
-  args[1] = node;
-  if (!ros::master::execute("lookupNode", args, result, payload, false)) return -1;
-  std::string host;
-  uint32_t port = 0;
-  if (!ros::network::splitURI(static_cast<std::string>(payload), host, port)) return -1;
-  XmlRpc::XmlRpcClient client(host.c_str(), static_cast<int>(port), "/");
-  XmlRpc::XmlRpcValue request, response;
-  request[0] = ros::this_node::getName();
-  if (!client.execute("getPid", request, response) || response.size() < 3) return -1;
-  return static_cast<int>(response[2]);
-}
 
 double param(const std::string& name) {
   double v = std::nan("");
@@ -125,7 +109,7 @@ TEST(CrashSurvival, BridgeFadesSimulationResumesFromSnapshotRecordingAndReportGo
   ASSERT_GT(pressedSince, 0.0) << "the tool never pressed the liver steadily";
 
   // 2. SIGKILL the simulation.
-  const int pid = pidOf("/simulation");
+  const int pid = tt_test::nodePid("/simulation");
   ASSERT_GT(pid, 0) << "no pid for /simulation";
   double diedAt = 0.0, forceBefore = 0.0;
   std::size_t modelsBefore = 0, wrenchesBefore = 0;

@@ -27,10 +27,9 @@
 #include <geometry_msgs/PoseStamped.h>
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/WrenchStamped.h>
-#include <ros/master.h>
 #include <std_msgs/Bool.h>
-#include <xmlrpcpp/XmlRpcClient.h>
 
+#include "node_api.h"
 #include "tissue_trainer/ContactModel.h"
 #include "tissue_trainer/HapticStatus.h"
 
@@ -554,27 +553,8 @@ TEST(HapticBridgeExtrapolation, LinearBeatsZeroOrderHold) {
   EXPECT_LT(eLinear, 0.5 * eZoh);
 }
 
-// Calls `method` on a running node's XML-RPC slave API; false if the node or the call fails.
-bool callNode(const std::string& node, const std::string& method, XmlRpc::XmlRpcValue call,
-              XmlRpc::XmlRpcValue& reply) {
-  XmlRpc::XmlRpcValue args, result, payload;
-  args[0] = ros::this_node::getName();
-  args[1] = node;
-  if (!ros::master::execute("lookupNode", args, result, payload, true)) return false;
-  const std::string uri = payload;  // http://host:port/
-  const std::size_t hostAt = uri.find("://") + 3, portAt = uri.rfind(':');
-  const std::string host = uri.substr(hostAt, portAt - hostAt);
-  const int port = std::atoi(uri.c_str() + portAt + 1);
-  XmlRpc::XmlRpcClient client(host.c_str(), port, "/");
-  return client.execute(method.c_str(), call, reply) && reply.getType() == XmlRpc::XmlRpcValue::TypeArray;
-}
-
-// The process id of a running node (getPid); -1 if unknown.
-int nodePid(const std::string& node) {
-  XmlRpc::XmlRpcValue call, reply;
-  call[0] = ros::this_node::getName();
-  return callNode(node, "getPid", call, reply) ? int(reply[2]) : -1;
-}
+using tt_test::callNode;
+using tt_test::nodePid;
 
 // What `rosnode kill` sends: the slave API's shutdown.
 bool requestShutdown(const std::string& node) {

@@ -6,6 +6,8 @@ import csv
 import math
 import os
 import sys
+
+import yaml
 from xml.sax.saxutils import quoteattr
 
 STAMP_ALLOWANCE = 0.0002  # s: the bridge limits by its own tick length; the stamp comes after
@@ -30,13 +32,9 @@ def percentile(values, p):
 
 
 def bridge_params(path):
-    """The few numbers of config/haptic_bridge.yaml the checks need (key: value lines)."""
-    params = {}
+    """The few numbers of config/haptic_bridge.yaml the checks need."""
     with open(path) as f:
-        for line in f:
-            key, _, value = line.partition("#")[0].partition(":")
-            if value.strip():
-                params[key.strip()] = value.strip()
+        params = yaml.safe_load(f)
     return {k: float(params[k]) for k in ("rate", "max_force", "max_force_rate", "model_timeout",
                                           "fade_time", "resume_time")}
 
