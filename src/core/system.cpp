@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "tissue_trainer/core/mesh/quality.h"
+
 namespace tt {
 
 Eigen::Vector3d PrescribedPath::offsetAt(double t) const {
@@ -24,18 +26,31 @@ System::System(Mesh m, std::vector<Material> mats)
     : mesh(std::move(m)), materials(std::move(mats)) {
   const int n = mesh.numNodes();
   mesh.fillDefaults();
-  pattern = SparsePattern(n, mesh.tets);
+  pattern = meshPattern(mesh);
   mass = Eigen::VectorXd::Zero(3 * n);
   for (int e = 0; e < mesh.numTets(); ++e) {
     const double quarter = 0.25 * materials.at(mesh.material[e]).density *
                            std::abs(tetVolume(mesh.rest, mesh.tets[e]));
     for (int a : mesh.tets[e]) mass.segment<3>(3 * a).array() += quarter;
   }
+  // A hex mesh (without its tets) lumps an eighth of each hex's mass on each of its nodes.
+  for (int e = 0; e < mesh.numHexes(); ++e) {
+    const double eighth = 0.125 * materials.at(mesh.hexMaterial[e]).density *
+                          std::abs(hexVolume(mesh.rest, mesh.hexes[e]));
+    for (int a : mesh.hexes[e]) mass.segment<3>(3 * a).array() += eighth;
+  }
   damping = Eigen::VectorXd::Zero(3 * n);
   externalForce = Eigen::VectorXd::Zero(3 * n);
   state.x = Eigen::Map<const Eigen::VectorXd>(mesh.rest.data(), 3 * n);
   state.v = Eigen::VectorXd::Zero(3 * n);
   updateConstraints();
+}
+
+void System::addCouplingsToPattern() {
+  std::vector<std::array<int, 2>> pairs;
+  for (const auto& model : models)
+    for (const auto& pair : model->couplings()) pairs.push_back(pair);
+  pattern = meshPattern(mesh, std::move(pairs));
 }
 
 double System::computeForce(const Eigen::VectorXd& x, const Eigen::VectorXd& v,

@@ -115,7 +115,7 @@ inline Eigen::VectorXd fdGradient(const ForceModel& model, const Eigen::VectorXd
 
 inline Eigen::MatrixXd denseStiffness(const ForceModel& model, const Mesh& m,
                                       const Eigen::VectorXd& x) {
-  SparsePattern pattern(m.numNodes(), m.tets);
+  const SparsePattern pattern = meshPattern(m);
   SparseMatrix K = pattern.zeroMatrix();
   model.addStiffness(x, 1.0, pattern, K);
   return Eigen::MatrixXd(K);

@@ -35,8 +35,10 @@ struct ControlledSet {
 class System {
  public:
   System() = default;
-  // Builds the sparsity pattern and lumped masses (seed 001 Eq 2.19: each node gets a quarter
-  // of rho * V0 of every tet it belongs to), state at rest, no models, no damping.
+  // Builds the sparsity pattern (tets and hexes) and lumped masses (seed 001 Eq 2.3: each
+  // node gets rho * V0 / 4 of every tet and rho * V0 / 8 of every hex it belongs to), state at
+  // rest, no models, no damping. A mesh lists either tets or hexes as its elements (the box
+  // generator's tet split of its hexes is one or the other: the scene keeps one).
   System(Mesh mesh, std::vector<Material> materials);
 
   int numNodes() const { return mesh.numNodes(); }
@@ -48,6 +50,10 @@ class System {
                       Eigen::VectorXd& f) const;
   double potentialEnergy(const Eigen::VectorXd& x) const;
   double kineticEnergy(const Eigen::VectorXd& v) const;
+
+  // Rebuilds the pattern with the node pairs the models declare (ForceModel::couplings);
+  // call after adding models that declare any.
+  void addCouplingsToPattern();
 
   // True when every model provides an analytic stiffness (implicit integrators need it).
   bool hasStiffness() const;

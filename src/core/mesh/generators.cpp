@@ -57,9 +57,10 @@ Mesh boxGrid(int nodesX, int nodesY, int nodesZ, const Eigen::Vector3d& size, Te
 
   const bool five = split == TetSplit::kFive || split == TetSplit::kFiveMirrored;
   const bool mirrored = split == TetSplit::kFiveMirrored || split == TetSplit::kSixMirrored;
-  const int perHex = five ? 5 : 6;
+  const bool hexes = split == TetSplit::kNone;
+  const int perHex = hexes ? 0 : five ? 5 : 6;
   const int cells = (nodesX - 1) * (nodesY - 1) * (nodesZ - 1);
-  mesh.hexes.reserve(cells);
+  if (hexes) mesh.hexes.reserve(cells);
   mesh.tets.reserve(static_cast<size_t>(cells) * perHex);
 
   for (int k = 0; k + 1 < nodesZ; ++k)
@@ -72,9 +73,11 @@ Mesh boxGrid(int nodesX, int nodesY, int nodesZ, const Eigen::Vector3d& size, Te
           const int b = mirror ? bits ^ flip : bits;
           return index(i + (b & 1), j + (b >> 1 & 1), k + (b >> 2 & 1));
         };
-        Hex hex;
-        for (int c = 0; c < 8; ++c) hex[c] = corner(kVtkCornerBits[c], false);
-        mesh.hexes.push_back(hex);
+        if (hexes) {
+          Hex hex;
+          for (int c = 0; c < 8; ++c) hex[c] = corner(kVtkCornerBits[c], false);
+          mesh.hexes.push_back(hex);
+        }
         for (int t = 0; t < perHex; ++t) {
           const int* bits = five ? kFiveTets[t] : kSixTets[t];
           Tet tet{corner(bits[0], true), corner(bits[1], true), corner(bits[2], true),

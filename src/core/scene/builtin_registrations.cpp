@@ -8,9 +8,13 @@ namespace tt {
 
 // Force models (src/core/model/*_registration.cpp).
 void registerEdgeLengthModel(Registry&);
+void registerHyperelasticModel(Registry&);
 void registerStvkDisplacementModel(Registry&);
 void registerTensorMassModel(Registry&);
-// Material laws (src/core/material/*_registration.cpp): none yet.
+// Material laws (src/core/material/*_registration.cpp).
+void registerStvkLaw(Registry&);
+void registerNeoHookeanLaw(Registry&);
+void registerVolumeLaw(Registry&);
 // Integrators (src/core/integrate/*_registration.cpp).
 void registerBackwardEuler(Registry&);
 void registerNewtonian(Registry&);
@@ -19,8 +23,12 @@ void registerExplicitEuler(Registry&);
 
 void registerBuiltIns(Registry& registry) {
   registerEdgeLengthModel(registry);
+  registerHyperelasticModel(registry);
   registerStvkDisplacementModel(registry);
   registerTensorMassModel(registry);
+  registerStvkLaw(registry);
+  registerNeoHookeanLaw(registry);
+  registerVolumeLaw(registry);
   registerBackwardEuler(registry);
   registerNewtonian(registry);
   registerRadauIIA(registry);

@@ -73,7 +73,7 @@ void Registry::add(ForceModelEntry entry) {
 }
 
 void Registry::add(LawEntry entry) {
-  requireName("law", entry.name, static_cast<bool>(entry.parameters));
+  requireName("law", entry.name, static_cast<bool>(entry.makeHyperelastic));
   if (findLaw(entry.name)) throw std::logic_error("registry: law '" + entry.name + "' registered twice");
   requireDistinctKeys("law", entry.name, entry.materialKeys);
   laws_.push_back(std::move(entry));

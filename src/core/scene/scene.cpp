@@ -24,13 +24,9 @@ double lengthUnit(const YamlEntry& e) {
   return unit == "m" ? 1.0 : unit == "cm" ? 1e-2 : 1e-3;
 }
 
-double stressUnit(const YamlEntry& e) {
-  const std::string unit = e.choice({"Pa", "kPa", "MPa"});
-  return unit == "Pa" ? 1.0 : unit == "kPa" ? 1e3 : 1e6;
-}
-
 TetSplit parseSplit(const YamlEntry& e) {
-  const std::string s = e.choice({"five", "five_mirrored", "six", "six_mirrored"});
+  const std::string s = e.choice({"five", "five_mirrored", "six", "six_mirrored", "none"});
+  if (s == "none") return TetSplit::kNone;
   if (s == "five") return TetSplit::kFive;
   if (s == "five_mirrored") return TetSplit::kFiveMirrored;
   if (s == "six") return TetSplit::kSix;

@@ -142,4 +142,9 @@ bool YamlEntry::boolean(const char* key, bool fallback) const {
   return has(key) ? (*this)[key].boolean() : fallback;
 }
 
+double stressUnit(const YamlEntry& unit) {
+  const std::string name = unit.choice({"Pa", "kPa", "MPa"});
+  return name == "Pa" ? 1.0 : name == "kPa" ? 1e3 : 1e6;
+}
+
 }  // namespace tt

@@ -114,4 +114,19 @@ void SparsePattern::addNodeBlock(SparseMatrix& K, int a, int b,
   }
 }
 
+std::vector<std::array<int, 2>> hexNodePairs(const std::vector<Hex>& hexes) {
+  std::vector<std::array<int, 2>> pairs;
+  pairs.reserve(hexes.size() * 28);
+  for (const Hex& h : hexes)
+    for (int a = 0; a < 8; ++a)
+      for (int b = a + 1; b < 8; ++b) pairs.push_back({std::min(h[a], h[b]), std::max(h[a], h[b])});
+  return pairs;
+}
+
+SparsePattern meshPattern(const Mesh& mesh, std::vector<std::array<int, 2>> extraPairs) {
+  const std::vector<std::array<int, 2>> hexPairs = hexNodePairs(mesh.hexes);
+  extraPairs.insert(extraPairs.end(), hexPairs.begin(), hexPairs.end());
+  return SparsePattern(mesh.numNodes(), mesh.tets, extraPairs);
+}
+
 }  // namespace tt

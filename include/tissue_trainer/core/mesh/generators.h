@@ -11,12 +11,14 @@ enum class TetSplit {
   kFiveMirrored,  // 5 tets per hex, mirrored 2x2x2 kernel (conforming faces)
   kSix,           // 6 tets per hex around the main diagonal, same in every cell (conforming)
   kSixMirrored,   // 6 tets per hex, mirrored 2x2x2 kernel (conforming)
+  kNone,          // no split: the hexes are the elements
 };
 
 // A grid of nodesX x nodesY x nodesZ nodes spanning [0,size.x] x [0,size.y] x [0,size.z],
 // node (i,j,k) at index i + nodesX * (j + nodesY * k), with (nodesX-1)(nodesY-1)(nodesZ-1)
-// hexes (VTK node order, kept in Mesh::hexes), each split into tets. The tets of hex h are
-// tets[h * perHex .. h * perHex + perHex - 1], perHex = 5 or 6.
+// cells. Each cell is split into tets (the tets of cell h are tets[h * perHex .. h * perHex +
+// perHex - 1], perHex = 5 or 6), or with TetSplit::kNone kept as one hex (VTK node order,
+// Mesh::hexes). A mesh holds one or the other, never both: both would be simulated.
 Mesh boxGrid(int nodesX, int nodesY, int nodesZ, const Eigen::Vector3d& size, TetSplit split);
 
 // A beam along +x of length L and square section w x w centred on the x axis

@@ -28,14 +28,19 @@ struct Mesh {
   std::vector<Tet> tets;                // positively oriented: det[P1-P0, P2-P0, P3-P0] > 0
   std::vector<Hex> hexes;               // optional, VTK/Gmsh node order
   std::vector<Triangle> surface;        // boundary triangles, outward normals (right-hand)
-  std::vector<Eigen::Matrix3d> fibreFrame;  // per tet; column 0 is the fibre direction a0
-  std::vector<int> material;            // per tet material id (index into the scene's table)
+  // Per tet: the fibre frame (orthonormal columns: fibre a0, sheet, sheet-normal) and the
+  // material id (index into the scene's table); the same per hex.
+  std::vector<Eigen::Matrix3d> fibreFrame;
+  std::vector<int> material;
+  std::vector<Eigen::Matrix3d> hexFibreFrame;
+  std::vector<int> hexMaterial;
   std::vector<std::uint8_t> nodeTags;   // per node, NodeTag bits
 
   int numNodes() const { return static_cast<int>(rest.cols()); }
   int numTets() const { return static_cast<int>(tets.size()); }
+  int numHexes() const { return static_cast<int>(hexes.size()); }
 
-  // Gives every tet the identity frame and material 0, every node no tag, when the
+  // Gives every tet and hex the identity frame and material 0, every node no tag, when the
   // corresponding arrays are empty. Readers and generators call it last.
   void fillDefaults();
 };

@@ -1,5 +1,5 @@
 #pragma once
-// Whole-mesh loops over tets shared by the tet force models, sequential or on
+// Whole-mesh loops over elements (tets, hexes) shared by the element force models, sequential or on
 // tt::threadCount() threads (parallel.h):
 //   forces    : each thread takes a contiguous range of tets; the first adds straight into f,
 //               the others into their own zeroed force buffer, and the buffers are added to f
@@ -40,23 +40,23 @@ inline void scatterAddTet(const Matrix34d& fe, const Tet& t, Eigen::VectorXd& f)
   for (int p = 0; p < 4; ++p) f.segment<3>(3 * t[p]) += fe.col(p);
 }
 
-// f += sum over tets of the nodal forces tetForce(e, fe) writes into fe; returns the sum of
-// what tetForce returns (the energies).
-template <class TetForce>
-double accumulateTetForces(const std::vector<Tet>& tets, Eigen::VectorXd& f,
-                           const TetForce& tetForce) {
+// f += sum over elements of the nodal forces elementForce(e, fe) writes into fe (3 x N, one
+// column per element node); returns the sum of what elementForce returns (the energies).
+template <int N, class ElementForce>
+double accumulateElementForces(const std::vector<std::array<int, N>>& elements,
+                               Eigen::VectorXd& f, const ElementForce& elementForce) {
   const int parts = threadCount();
-  const int count = static_cast<int>(tets.size());
+  const int count = static_cast<int>(elements.size());
   std::array<double, kMaxThreads> energies{};
   std::vector<Eigen::VectorXd>& buffers = detail::forceBuffers(parts - 1, f.size());
   parallelRanges(parts, count, [&](int part, int begin, int end) {
     Eigen::VectorXd& out = part == 0 ? f : buffers[part - 1];
     if (part > 0) out.setZero();
     double energy = 0.0;
-    Matrix34d fe;
+    Eigen::Matrix<double, 3, N> fe;
     for (int e = begin; e < end; ++e) {
-      energy += tetForce(e, fe);
-      scatterAddTet(fe, tets[e], out);
+      energy += elementForce(e, fe);
+      for (int p = 0; p < N; ++p) out.template segment<3>(3 * elements[e][p]) += fe.col(p);
     }
     energies[part] = energy;
   });
@@ -69,6 +69,14 @@ double accumulateTetForces(const std::vector<Tet>& tets, Eigen::VectorXd& f,
   double energy = 0.0;
   for (int part = 0; part < parts; ++part) energy += energies[part];
   return energy;
+}
+
+// f += sum over tets of the nodal forces tetForce(e, fe) writes into fe; returns the sum of
+// what tetForce returns (the energies).
+template <class TetForce>
+double accumulateTetForces(const std::vector<Tet>& tets, Eigen::VectorXd& f,
+                           const TetForce& tetForce) {
+  return accumulateElementForces<4>(tets, f, tetForce);
 }
 
 // Sum over tets of tetValue(e).

@@ -21,7 +21,6 @@
 // (`type` plus the declared keys) before calling the factory, so the documented keys and the
 // accepted keys are one list. An unknown name is one error that lists the known ones; there
 // is no default.
-#include <any>
 #include <functional>
 #include <memory>
 #include <stdexcept>
@@ -29,6 +28,7 @@
 #include <vector>
 
 #include "tissue_trainer/core/integrate/integrator.h"
+#include "tissue_trainer/core/material/law.h"
 #include "tissue_trainer/core/mesh/mesh.h"
 #include "tissue_trainer/core/model/force_model.h"
 #include "tissue_trainer/core/model/material.h"
@@ -73,21 +73,21 @@ struct ForceModelEntry {
   ForceModelFactory make;
 };
 
-// A material law (psi(F), P(F), dP). Its entry names the keys a `materials` entry may carry
-// for it beyond the common ones (density, young_modulus, poisson_ratio, the longitudinal
-// pair, lambda/mu, region, name, stress_unit), and makes the law's parameters for one
-// material from that entry plus the common constants already read into `common`. The value
-// is the law's own parameter type held in std::any; the element model that is templated on
-// the law (`hyperelastic`) takes it back with std::any_cast. A key of a law is accepted in
-// every material entry; the model using the law reports a key no used law reads.
-using LawParameterFactory =
-    std::function<std::any(const YamlEntry& material, const Material& common)>;
+// A material law (psi(F), P(F), dP; material/law.h). Its entry names the keys a `materials`
+// entry may carry for it beyond the common ones (density, young_modulus, poisson_ratio, the
+// longitudinal pair, lambda/mu, region, name, stress_unit), and builds the element model
+// `hyperelastic` over the law: model/hyperelastic_factory.h instantiates the model's template
+// for the law in the law's registration file, and reads the law's constants per material
+// from ModelContext (its materialEntries in a scene, the common constants elsewhere). A key of
+// a law is accepted in every material entry.
+using LawModelFactory =
+    std::function<std::unique_ptr<ForceModel>(const ModelContext& context, const LawOptions&)>;
 
 struct LawEntry {
   std::string name;
   std::string description;
   std::vector<KeyDoc> materialKeys;    // the law's own keys in a `materials` entry
-  LawParameterFactory parameters;
+  LawModelFactory makeHyperelastic;
 };
 
 using IntegratorFactory = std::function<std::unique_ptr<Integrator>(const YamlEntry& spec)>;

@@ -55,4 +55,7 @@ class YamlEntry {
   const std::string* file_;
 };
 
+// The factor of a `stress_unit` value: Pa, kPa or MPa.
+double stressUnit(const YamlEntry& unit);
+
 }  // namespace tt

@@ -48,4 +48,10 @@ class SparsePattern {
   std::vector<int> tetsByColour_, colourStarts_;
 };
 
+// The node pairs (a < b) of the hexes, for a pattern that covers them as extra pairs.
+std::vector<std::array<int, 2>> hexNodePairs(const std::vector<Hex>& hexes);
+
+// The pattern of a mesh: its tets (with offsets and colours), its hexes and `extraPairs`.
+SparsePattern meshPattern(const Mesh& mesh, std::vector<std::array<int, 2>> extraPairs = {});
+
 }  // namespace tt

@@ -1,0 +1,39 @@
+// Registers hyperelastic (model/hyperelastic.h): the law's own entry builds it.
+#include <cmath>
+
+#include "tissue_trainer/core/scene/registry.h"
+
+namespace tt {
+
+void registerHyperelasticModel(Registry& registry) {
+  ForceModelEntry e;
+  e.name = "hyperelastic";
+  e.description = "any registered material law on the mesh's tets (1 point) and hexes "
+                  "(trilinear, 2x2x2 Gauss points)";
+  e.keys = {{"law", "the material law (see the laws listed below), required"},
+            {"inversion_threshold",
+             "eps >= 0: singular values of F clamped at eps, so inverted elements push back "
+             "(0, the default, turns it off)"},
+            {"psd_projection",
+             "true: the stiffness and stiffness products use the law's tangent with negative "
+             "eigenvalues removed (default false)"}};
+  e.presets = {{"hyperelastic_stvk", "{law: stvk}", "the stvk law, no options"},
+               {"hyperelastic_neo_hookean", "{law: neo_hookean}", "the neo_hookean law, no options"}};
+  e.make = [](const YamlEntry& spec, const ModelContext& context) -> std::unique_ptr<ForceModel> {
+    const LawEntry& law = tt::registry().law(spec["law"]);
+    LawOptions options;
+    if (spec.has("inversion_threshold")) {
+      const YamlEntry eps = spec["inversion_threshold"];
+      options.inversionThreshold = eps.number();
+      if (!(options.inversionThreshold >= 0.0 && options.inversionThreshold < 1.0))
+        eps.fail("expected a threshold in [0, 1) (a singular value of F; 0 turns it off)");
+    }
+    options.psdProjection = spec.boolean("psd_projection", false);
+    if (context.mesh.tets.empty() && context.mesh.hexes.empty())
+      spec.fail("the mesh has no tetrahedra or hexahedra");
+    return law.makeHyperelastic(context, options);
+  };
+  registry.add(std::move(e));
+}
+
+}  // namespace tt

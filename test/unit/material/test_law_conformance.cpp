@@ -1,0 +1,225 @@
+// The conformance suite of the material laws: the same checks on every law in LawTypes
+// (a new law adds itself there). Point checks of psi, P and dP against each other by finite
+// differences, frame indifference, isotropy where claimed, zero stress at rest where the law
+// has it, the rotation-only SVD, inversion handling and the PSD projection.
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <random>
+
+#include "../model_test_util.h"
+#include "tissue_trainer/core/material/inversion.h"
+#include "tissue_trainer/core/material/law_point.h"
+#include "tissue_trainer/core/material/neo_hookean.h"
+#include "tissue_trainer/core/material/psd_projection.h"
+#include "tissue_trainer/core/material/stvk.h"
+#include "tissue_trainer/core/material/volume.h"
+
+namespace tt {
+namespace {
+
+// Sample constants of each law: soft-tissue magnitudes (Pa).
+template <class Law>
+typename Law::Constants sampleConstants();
+template <>
+StvkLaw::Constants sampleConstants<StvkLaw>() {
+  return StvkLaw::constants(Material::transverselyIsotropic(3e4, 0.3, 1.2e5, 0.35, 1000.0));
+}
+template <>
+NeoHookeanLaw::Constants sampleConstants<NeoHookeanLaw>() {
+  return NeoHookeanLaw::constants(Material::isotropic(1e4, 0.45, 1000.0));
+}
+template <>
+VolumeLaw::Constants sampleConstants<VolumeLaw>() {
+  return {5e3, 1.0};
+}
+
+Eigen::Matrix3d randomGradient(std::mt19937& rng, double amplitude) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (;;) {
+    Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
+    for (int i = 0; i < 9; ++i) F.data()[i] += amplitude * n(rng);
+    if (F.determinant() > 0.3) return F;
+  }
+}
+
+double relative(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  return (a - b).lpNorm<Eigen::Infinity>() / std::max(b.lpNorm<Eigen::Infinity>(), 1e-300);
+}
+
+template <class Law>
+class LawConformance : public ::testing::Test {
+ protected:
+  typename Law::Parameters params(std::mt19937& rng) const {
+    return Law::parameters(sampleConstants<Law>(), testutil::frameFrom(testutil::randomUnit(rng)));
+  }
+};
+
+using LawTypes = ::testing::Types<StvkLaw, NeoHookeanLaw, VolumeLaw>;
+TYPED_TEST_SUITE(LawConformance, LawTypes);
+
+TYPED_TEST(LawConformance, StressIsTheEnergyGradient) {
+  using Law = TypeParam;
+  std::mt19937 rng(11);
+  double worst = 0.0;
+  for (int trial = 0; trial < 50; ++trial) {
+    const auto p = this->params(rng);
+    const Eigen::Matrix3d F = randomGradient(rng, 0.25);
+    Eigen::Matrix3d fd;
+    const double h = 1e-6;
+    for (int i = 0; i < 9; ++i) {
+      Eigen::Matrix3d Fp = F, Fm = F;
+      Fp.data()[i] += h;
+      Fm.data()[i] -= h;
+      fd.data()[i] = (Law::energy(p, Fp) - Law::energy(p, Fm)) / (2 * h);
+    }
+    worst = std::max(worst, relative(fd, Law::stress(p, F)));
+  }
+  EXPECT_LT(worst, 1e-6) << Law::kName;
+}
+
+TYPED_TEST(LawConformance, DifferentialIsTheStressDerivativeAndSymmetric) {
+  using Law = TypeParam;
+  std::mt19937 rng(12);
+  double worst = 0.0, asymmetry = 0.0;
+  for (int trial = 0; trial < 50; ++trial) {
+    const auto p = this->params(rng);
+    const Eigen::Matrix3d F = randomGradient(rng, 0.25);
+    const Eigen::Matrix3d dF = randomGradient(rng, 1.0) - Eigen::Matrix3d::Identity();
+    const double h = 1e-6;
+    const Eigen::Matrix3d fd =
+        (Law::stress(p, F + h * dF) - Law::stress(p, F - h * dF)) / (2 * h);
+    worst = std::max(worst, relative(fd, Law::stressDifferential(p, F, dF)));
+    const Matrix9d A = lawTangent<Law>(p, F);
+    asymmetry = std::max(asymmetry, relative(A.transpose(), A));
+  }
+  EXPECT_LT(worst, 1e-6) << Law::kName;
+  EXPECT_LT(asymmetry, 1e-12) << Law::kName << ": the tangent of a hyperelastic law is symmetric";
+}
+
+TYPED_TEST(LawConformance, FrameIndifferentAndIsotropicWhereClaimed) {
+  using Law = TypeParam;
+  std::mt19937 rng(13);
+  for (int trial = 0; trial < 20; ++trial) {
+    const auto p = this->params(rng);
+    const Eigen::Matrix3d F = randomGradient(rng, 0.3);
+    const Eigen::Matrix3d Q = testutil::randomRotation(rng);
+    EXPECT_NEAR(Law::energy(p, Q * F), Law::energy(p, F), 1e-10 * std::abs(Law::energy(p, F)));
+    EXPECT_LT(relative(Law::stress(p, Q * F), Q * Law::stress(p, F)), 1e-10);
+    if (Law::kIsotropic) {
+      EXPECT_NEAR(Law::energy(p, F * Q), Law::energy(p, F), 1e-10 * std::abs(Law::energy(p, F)));
+      EXPECT_LT(relative(Law::stress(p, F * Q), Law::stress(p, F) * Q), 1e-10);
+    }
+  }
+}
+
+TYPED_TEST(LawConformance, NoStressAtRestWhereTheLawHasNone) {
+  using Law = TypeParam;
+  std::mt19937 rng(14);
+  const auto k = sampleConstants<Law>();
+  ASSERT_TRUE(Law::restStressFree(k));
+  const auto p = this->params(rng);
+  EXPECT_EQ(Law::energy(p, Eigen::Matrix3d::Identity()), 0.0);
+  EXPECT_LT(Law::stress(p, Eigen::Matrix3d::Identity()).norm(), 1e-9);
+}
+
+TYPED_TEST(LawConformance, ProjectedTangentHasNoNegativeEigenvalue) {
+  using Law = TypeParam;
+  std::mt19937 rng(15);
+  int indefinite = 0;
+  LawOptions options;
+  options.psdProjection = true;
+  options.inversionThreshold = 0.05;
+  for (int trial = 0; trial < 50; ++trial) {
+    const auto p = this->params(rng);
+    const Eigen::Matrix3d F = randomGradient(rng, 0.6);  // large: indefinite tangents occur
+    LawPoint point = lawPoint(F, options);
+    const Matrix9d A = lawTangent<Law>(p, point.F);
+    indefinite += Eigen::SelfAdjointEigenSolver<Matrix9d>(0.5 * (A + A.transpose()))
+                      .eigenvalues()
+                      .minCoeff() < 0.0;
+    const Matrix9d projected = pointTangent<Law>(p, point, options);
+    const Eigen::VectorXd lambda =
+        Eigen::SelfAdjointEigenSolver<Matrix9d>(projected).eigenvalues();
+    EXPECT_GE(lambda.minCoeff(), -1e-9 * lambda.cwiseAbs().maxCoeff()) << Law::kName;
+    if (Law::kIsotropic) {  // the block form and the full eigenvalue clamp agree
+      Matrix9d full = A;
+      projectPsd(full);
+      EXPECT_LT(relative(projected, full), 1e-9) << Law::kName;
+    }
+  }
+  EXPECT_GT(indefinite, 0) << Law::kName << ": no sample made the tangent indefinite";
+}
+
+TEST(RotationSvd, RotationsWithTheSignOnTheSmallestSingularValue) {
+  std::mt19937 rng(16);
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (int trial = 0; trial < 100; ++trial) {
+    Eigen::Matrix3d F;
+    for (int i = 0; i < 9; ++i) F.data()[i] = n(rng);
+    const RotationSvd s = rotationSvd(F);
+    EXPECT_NEAR(s.U.determinant(), 1.0, 1e-12);
+    EXPECT_NEAR(s.V.determinant(), 1.0, 1e-12);
+    EXPECT_LT(relative(s.U * s.sigma.asDiagonal() * s.V.transpose(), F), 1e-12);
+    EXPECT_GE(s.sigma(0), s.sigma(1));
+    EXPECT_GE(s.sigma(1), std::abs(s.sigma(2)));
+    EXPECT_EQ(s.sigma(2) < 0.0, F.determinant() < 0.0);
+  }
+}
+
+// An inverted gradient gets the law's stress at F^ (finite) and that stress acts to undo the
+// inversion: moving F against P raises det F.
+TEST(InversionHandling, InvertedGradientsGetAFiniteRestoringStress) {
+  std::mt19937 rng(17);
+  const NeoHookeanLaw::Parameters p = sampleConstants<NeoHookeanLaw>();
+  LawOptions options;
+  options.inversionThreshold = 0.1;
+  for (int trial = 0; trial < 50; ++trial) {
+    Eigen::Matrix3d F = randomGradient(rng, 0.2);
+    F.col(2) *= -0.5;  // reflected: det F < 0
+    ASSERT_LT(F.determinant(), 0.0);
+    EXPECT_FALSE(NeoHookeanLaw::stress(p, F).allFinite());  // the bare law is undefined there
+    const LawPoint point = lawPoint(F, options);
+    EXPECT_TRUE(point.clamped);
+    EXPECT_GT(point.F.determinant(), 0.0);
+    const Eigen::Matrix3d P = NeoHookeanLaw::stress(p, point.F);
+    ASSERT_TRUE(P.allFinite());
+    const Eigen::Matrix3d cofactor = VolumeLaw::cofactor(F);  // d det F / dF
+    EXPECT_LT((cofactor.array() * P.array()).sum(), 0.0)
+        << "the force -P must increase det F (trial " << trial << ")";
+  }
+  // Above the threshold nothing changes, bitwise.
+  const Eigen::Matrix3d F = randomGradient(rng, 0.05);
+  const LawPoint point = lawPoint(F, options);
+  EXPECT_FALSE(point.clamped);
+  EXPECT_EQ(point.F, F);
+}
+
+// The volume law with r != 1 (seed 001 Eq 2.101): the exact stress 2 p (J - r) cof F, which
+// the printed Eq 2.100 misses by a sign in (2 E_kk - 1); here it is checked against the energy.
+TEST(VolumeLaw, DrivenVolumeStressIsTheEnergyGradient) {
+  std::mt19937 rng(18);
+  const VolumeLaw::Parameters p{5e3, 0.8};
+  EXPECT_FALSE(VolumeLaw::restStressFree(p));
+  for (int trial = 0; trial < 20; ++trial) {
+    const Eigen::Matrix3d F = randomGradient(rng, 0.3);
+    Eigen::Matrix3d fd;
+    const double h = 1e-6;
+    for (int i = 0; i < 9; ++i) {
+      Eigen::Matrix3d Fp = F, Fm = F;
+      Fp.data()[i] += h;
+      Fm.data()[i] -= h;
+      fd.data()[i] = (VolumeLaw::energy(p, Fp) - VolumeLaw::energy(p, Fm)) / (2 * h);
+    }
+    EXPECT_LT(relative(fd, VolumeLaw::stress(p, F)), 1e-6);
+    // S = F^-1 P = 2 p J (J - r) C^-1 (the corrected 2.100 / 2.106).
+    const double J = F.determinant();
+    const Eigen::Matrix3d S = F.inverse() * VolumeLaw::stress(p, F);
+    EXPECT_LT(relative(S, 2 * p.stiffness * J * (J - p.ratio) * (F.transpose() * F).inverse()),
+              1e-12);
+  }
+}
+
+}  // namespace
+}  // namespace tt
