@@ -1,4 +1,4 @@
-// Force-evaluation throughput of the seed-000 tet models on box grids (6 tets per cell), on
+// Force-evaluation throughput of the tet models (seed 000 and the generic hyperelastic) on box grids (6 tets per cell), on
 // one and two threads (tt::setThreadCount): million tets per second per core (median of
 // repeats), each path's time relative to the edge_length fast path, and beside it the maximum
 // relative difference of its forces against the fast path on one thread (the two-thread
@@ -20,6 +20,7 @@
 #include "tissue_trainer/core/model/stvk_displacement.h"
 #include "tissue_trainer/core/model/tensor_mass.h"
 #include "tissue_trainer/core/parallel.h"
+#include "tissue_trainer/core/scene/registry.h"
 
 namespace {
 
@@ -93,11 +94,19 @@ void benchGrid(int cells, int repeats) {
   entries.push_back({"stvk_displacement correct", std::make_unique<StvkDisplacementModel>(mesh, mats, AlphaSign::kCorrect)});
   entries.push_back({"stvk_displacement paper_literal", std::make_unique<StvkDisplacementModel>(mesh, mats, AlphaSign::kPaperLiteral)});
   entries.push_back({"tensor_mass (linear)", std::make_unique<TensorMassModel>(mesh, mats)});
+  entries.push_back({"hyperelastic stvk", makeElasticModel("hyperelastic_stvk", mesh, mats)});
+  entries.push_back({"hyperelastic neo_hookean (other law)",
+                     makeElasticModel("hyperelastic_neo_hookean", mesh, mats)});
+  const YAML::Node inverting = YAML::Load("{type: hyperelastic, law: stvk, inversion_threshold: 0.2}");
+  const std::string origin = "bench_forces";
+  entries.push_back({"hyperelastic stvk, inversion 0.2",
+                     registry().makeForceModel(YamlEntry(inverting, "", &origin),
+                                               ModelContext{mesh, mats, {}})});
 
   const double mtets = mesh.numTets() * 1e-6;
   std::printf("\n%d tets, %d nodes (box %d^3 cells, 6 tets/cell), stretch+rotation+jitter\n",
               mesh.numTets(), mesh.numNodes(), cells);
-  std::printf("  %-32s %9s %9s %9s %9s %8s %8s %10s\n", "model / path", "1T ms", "1T Mt/s",
+  std::printf("  %-38s %9s %9s %9s %9s %8s %8s %10s\n", "model / path", "1T ms", "1T Mt/s",
               "2T ms", "2T Mt/s/c", "speedup", "t/fast", "rel diff");
   Eigen::VectorXd reference = Eigen::VectorXd::Zero(x.size());
   entries[0].model->addForce(x, v, reference);
@@ -112,7 +121,7 @@ void benchGrid(int cells, int repeats) {
     }
     setThreadCount(1);
     if (&e == &entries[0]) fastSeconds = s[0];
-    std::printf("  %-32s %9.3f %9.2f %9.3f %9.2f %8.2f %8.2f %10.2e\n", e.label.c_str(),
+    std::printf("  %-38s %9.3f %9.2f %9.3f %9.2f %8.2f %8.2f %10.2e\n", e.label.c_str(),
                 1e3 * s[0], mtets / s[0], 1e3 * s[1], mtets / s[1] / 2, s[0] / s[1],
                 s[0] / fastSeconds, diff);
   }
@@ -131,7 +140,7 @@ void benchGrid(int cells, int repeats) {
     else diff = maxRelDiff(K.coeffs(), k1);
   }
   setThreadCount(1);
-  std::printf("  %-32s %9.3f %9.2f %9.3f %9.2f %8.2f %8s %10.2e\n", "stiffness assembly (fast)",
+  std::printf("  %-38s %9.3f %9.2f %9.3f %9.2f %8.2f %8s %10.2e\n", "stiffness assembly (fast)",
               1e3 * s[0], mtets / s[0], 1e3 * s[1], mtets / s[1] / 2, s[0] / s[1], "-", diff);
   std::printf("  (%zu tet colours for the threaded assembly; rel diff of K: 2 vs 1 thread)\n",
               pattern.colourStarts().size() - 1);

@@ -1,6 +1,5 @@
 #include "tissue_trainer/core/integrate/backward_euler.h"
 
-#include <Eigen/IterativeLinearSolvers>
 #include <algorithm>
 #include <cmath>
 
@@ -34,37 +33,6 @@ void BackwardEulerIntegrator::buildMatrix(const System& system, double h) {
     a[diagonal_[row]] += system.mass[row] + h * system.damping[row];
 }
 
-bool BackwardEulerIntegrator::conjugateGradients(const Eigen::VectorXd& b, Eigen::VectorXd& x,
-                                                 int& iterations) {
-  const double threshold = params.linearTolerance * b.norm();
-  r_ = b - A_ * x;
-  iterations = 0;
-  const double bNorm = b.norm();
-  diagnostics_.lastRelativeResidual = r_.norm() / bNorm;
-  if (r_.norm() <= threshold) return true;
-  z_ = inverseDiagonal_.cwiseProduct(r_);
-  p_ = z_;
-  double rz = r_.dot(z_);
-  while (iterations < params.linearMaxIterations) {
-    ++iterations;
-    Ap_.noalias() = A_ * p_;
-    const double curvature = p_.dot(Ap_);
-    if (!(curvature > 0.0)) return false;
-    const double alpha = rz / curvature;
-    x += alpha * p_;
-    r_ -= alpha * Ap_;
-    const double rNorm = r_.norm();
-    diagnostics_.lastRelativeResidual = rNorm / bNorm;
-    if (rNorm <= threshold) return true;
-    z_ = inverseDiagonal_.cwiseProduct(r_);
-    const double rzNext = r_.dot(z_);
-    p_ = z_ + (rzNext / rz) * p_;
-    rz = rzNext;
-  }
-  ++diagnostics_.unconvergedLinear;
-  return true;
-}
-
 int BackwardEulerIntegrator::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   // Solved for x / s against b / s with s = max |b_i|: a body that has nearly come to rest
   // under strong damping has a right side so small that |b|^2 and the CG products underflow
@@ -83,27 +51,31 @@ int BackwardEulerIntegrator::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x)
   return iterations;
 }
 
+// Jacobi-preconditioned CG (A is symmetric positive definite unless the stiffness has
+// turned indefinite); where CG meets non-positive curvature, BiCGSTAB from the same guess.
 int BackwardEulerIntegrator::solveUnit(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
-  inverseDiagonal_.resize(A_.rows());
-  bool positiveDiagonal = true;
-  for (int row = 0; row < A_.rows(); ++row) {
-    const double d = A_.valuePtr()[diagonal_[row]];
-    positiveDiagonal = positiveDiagonal && d > 0.0;
-    inverseDiagonal_[row] = 1.0 / d;
+  diagonalValues_.resize(A_.rows());
+  for (int row = 0; row < A_.rows(); ++row) diagonalValues_[row] = A_.valuePtr()[diagonal_[row]];
+  jacobi_.setDiagonal(diagonalValues_);
+  const SolveSettings settings{params.linearTolerance, params.linearMaxIterations, 30};
+  const MatrixOperator A(A_);
+  guess_ = x;
+  SolveReport report;
+  if (jacobi_.positive()) {
+    report = conjugateGradients(A, b, x, jacobi_, settings, krylov_);
+    diagnostics_.lastRelativeResidual = report.relativeResidual;
+    if (report.outcome != SolveOutcome::kNonPositiveCurvature) {
+      if (!report.converged()) ++diagnostics_.unconvergedLinear;
+      return report.iterations;
+    }
   }
-  const Eigen::VectorXd guess = x;
-  int iterations = 0;
-  if (positiveDiagonal && conjugateGradients(b, x, iterations)) return iterations;
-
   ++diagnostics_.nonPositiveCurvature;
-  Eigen::BiCGSTAB<SparseMatrix, Eigen::DiagonalPreconditioner<double>> fallback;
-  fallback.setTolerance(params.linearTolerance);
-  fallback.setMaxIterations(params.linearMaxIterations);
-  fallback.compute(A_);
-  x = fallback.solveWithGuess(b, guess);
-  if (fallback.info() != Eigen::Success) ++diagnostics_.unconvergedLinear;
-  diagnostics_.lastRelativeResidual = fallback.error();
-  return iterations + static_cast<int>(fallback.iterations());
+  const int cgIterations = report.iterations;
+  x = guess_;
+  report = biCgStab(A, b, x, jacobi_, settings, krylov_);
+  if (!report.converged()) ++diagnostics_.unconvergedLinear;
+  diagnostics_.lastRelativeResidual = report.relativeResidual;
+  return cgIterations + report.iterations;
 }
 
 bool BackwardEulerIntegrator::substep(System& system, double h, double endTime,

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "frame_guard.h"
+#include "tissue_trainer/core/element/hex8.h"
 
 namespace tt {
 namespace {
@@ -130,11 +131,16 @@ void StabilityGuard::keepDepth(int depth, bool rolledBack) {
 }
 
 void StabilityGuard::prepare(const System& system) {
-  const std::vector<Tet>& tets = system.mesh.tets;
-  if (prepared_ != &system || restVolume_.size() != tets.size()) {
-    const Eigen::Map<const Eigen::VectorXd> rest(system.mesh.rest.data(), system.mesh.rest.size());
-    restVolume_.resize(tets.size());
-    for (size_t e = 0; e < tets.size(); ++e) restVolume_[e] = signedVolume(rest, tets[e]);
+  const Mesh& mesh = system.mesh;
+  const size_t checked = mesh.tets.size() + 6 * mesh.hexes.size();
+  if (prepared_ != &system || restVolume_.size() != checked) {
+    // The tets, then each hex through the six tets of its split (Hex8::sixTets).
+    checkedTets_ = mesh.tets;
+    for (const Hex& h : mesh.hexes)
+      for (int k = 0; k < 6; ++k) checkedTets_.push_back(Hex8::sixTet(h, k));
+    const Eigen::Map<const Eigen::VectorXd> rest(mesh.rest.data(), mesh.rest.size());
+    restVolume_.resize(checked);
+    for (size_t e = 0; e < checked; ++e) restVolume_[e] = signedVolume(rest, checkedTets_[e]);
     prepared_ = &system;
   }
   checkVolumes_ = std::any_of(system.models.begin(), system.models.end(),
@@ -202,7 +208,7 @@ std::string StabilityGuard::checkFinite(const State& s) const {
 }
 
 std::string StabilityGuard::checkVolumes(const System& system) const {
-  const std::vector<Tet>& tets = system.mesh.tets;
+  const std::vector<Tet>& tets = checkedTets_;
   int worst = -1, count = 0;
   double worstRatio = params_.minVolumeRatio;
   for (size_t e = 0; e < tets.size(); ++e) {
@@ -216,7 +222,12 @@ std::string StabilityGuard::checkVolumes(const System& system) const {
     }
   }
   if (worst < 0) return {};
-  return "tet " + std::to_string(worst) +
+  const int numTets = system.mesh.numTets();
+  const std::string element =
+      worst < numTets ? "tet " + std::to_string(worst)
+                      : "hex " + std::to_string((worst - numTets) / 6) + " (tet " +
+                            std::to_string((worst - numTets) % 6) + " of its split)";
+  return element +
          format(" inverted or flat (volume %.3g of rest, limit %.3g; tets at or below it: %.0f)",
                 worstRatio, params_.minVolumeRatio, count);
 }

@@ -19,6 +19,7 @@ void registerHyperelasticModel(Registry& registry) {
              "eigenvalues removed (default false)"}};
   e.presets = {{"hyperelastic_stvk", "{law: stvk}", "the stvk law, no options"},
                {"hyperelastic_neo_hookean", "{law: neo_hookean}", "the neo_hookean law, no options"}};
+  e.coversHexes = true;
   e.make = [](const YamlEntry& spec, const ModelContext& context) -> std::unique_ptr<ForceModel> {
     const LawEntry& law = tt::registry().law(spec["law"]);
     LawOptions options;

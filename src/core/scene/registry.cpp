@@ -108,7 +108,12 @@ std::vector<std::string> Registry::presetNames() const {
 
 std::unique_ptr<ForceModel> Registry::makeForceModel(const YamlEntry& spec,
                                                      const ModelContext& context) const {
-  return entryOfType(spec, models_, "force model").make(spec, context);
+  const ForceModelEntry& entry = entryOfType(spec, models_, "force model");
+  if (!entry.coversHexes && context.mesh.numHexes() > 0)
+    spec["type"].fail("force model '" + entry.name + "' covers tetrahedra only, and the mesh has " +
+                      std::to_string(context.mesh.numHexes()) +
+                      " hexahedra (hyperelastic covers both)");
+  return entry.make(spec, context);
 }
 
 std::unique_ptr<Integrator> Registry::makeIntegrator(const YamlEntry& spec) const {

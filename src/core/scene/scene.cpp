@@ -117,7 +117,9 @@ Mesh loadMesh(const YamlEntry& spec, const fs::path& sceneDir, std::vector<std::
   placement.apply(mesh.rest);
   // A rotation turns the fibre frames with the mesh (orientation and volumes are kept).
   for (Eigen::Matrix3d& frame : mesh.fibreFrame) frame = placement.rotation * frame;
-  if (mesh.numTets() == 0) spec.fail("the mesh has no tetrahedra");
+  for (Eigen::Matrix3d& frame : mesh.hexFibreFrame) frame = placement.rotation * frame;
+  if (mesh.numTets() == 0 && mesh.numHexes() == 0)
+    spec.fail("the mesh has no tetrahedra or hexahedra");
   return mesh;
 }
 
@@ -297,30 +299,41 @@ Material parseMaterial(const YamlEntry& spec) {
   return m;
 }
 
-// Tets whose centroid lies in the region: 'all' or {box: {min, max}}.
-std::vector<int> regionTets(const YamlEntry& region, const Mesh& mesh) {
-  std::vector<int> tets;
+// Element e of the mesh numbered tets first, then hexes.
+Eigen::Vector3d elementCentroid(const Mesh& mesh, int e) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  if (e < mesh.numTets()) {
+    for (int a : mesh.tets[e]) c += 0.25 * mesh.rest.col(a);
+  } else {
+    for (int a : mesh.hexes[e - mesh.numTets()]) c += 0.125 * mesh.rest.col(a);
+  }
+  return c;
+}
+
+// Elements (tets, then hexes) whose centroid lies in the region: 'all' or {box: {min, max}}.
+std::vector<int> regionElements(const YamlEntry& region, const Mesh& mesh) {
+  const int count = mesh.numTets() + mesh.numHexes();
+  std::vector<int> elements;
   if (region.node().IsScalar()) {
     region.choice({"all"});
-    for (int e = 0; e < mesh.numTets(); ++e) tets.push_back(e);
-    return tets;
+    for (int e = 0; e < count; ++e) elements.push_back(e);
+    return elements;
   }
   region.expectMap({"box"});
   const YamlEntry box = region["box"];
   box.expectMap({"min", "max"});
   const Eigen::Vector3d lo = box["min"].vector3(), hi = box["max"].vector3();
-  for (int e = 0; e < mesh.numTets(); ++e) {
-    Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (int a : mesh.tets[e]) c += 0.25 * mesh.rest.col(a);
-    if ((c.array() >= lo.array()).all() && (c.array() <= hi.array()).all()) tets.push_back(e);
+  for (int e = 0; e < count; ++e) {
+    const Eigen::Vector3d c = elementCentroid(mesh, e);
+    if ((c.array() >= lo.array()).all() && (c.array() <= hi.array()).all()) elements.push_back(e);
   }
-  if (tets.empty()) region.fail("the region contains no tetrahedron");
-  return tets;
+  if (elements.empty()) region.fail("the region contains no element");
+  return elements;
 }
 
 std::vector<Material> assignMaterials(const YamlEntry& list, Mesh& mesh) {
   std::vector<Material> materials;
-  std::vector<int> assigned(mesh.numTets(), -1);
+  std::vector<int> assigned(mesh.numTets() + mesh.numHexes(), -1);
   if (list.size() == 0) list.fail("expected at least one material");
   for (size_t k = 0; k < list.size(); ++k) {
     const YamlEntry spec = list[k];
@@ -329,13 +342,14 @@ std::vector<Material> assignMaterials(const YamlEntry& list, Mesh& mesh) {
       std::fill(assigned.begin(), assigned.end(), static_cast<int>(k));
       continue;
     }
-    for (int e : regionTets(spec["region"], mesh)) assigned[e] = static_cast<int>(k);
+    for (int e : regionElements(spec["region"], mesh)) assigned[e] = static_cast<int>(k);
   }
   int unassigned = 0;
   for (int id : assigned) unassigned += id < 0;
   if (unassigned > 0)
-    list.fail(std::to_string(unassigned) + " tetrahedra are in no material's region");
-  mesh.material = assigned;
+    list.fail(std::to_string(unassigned) + " elements are in no material's region");
+  mesh.material.assign(assigned.begin(), assigned.begin() + mesh.numTets());
+  mesh.hexMaterial.assign(assigned.begin() + mesh.numTets(), assigned.end());
   return materials;
 }
 
@@ -350,6 +364,7 @@ void applyFibres(const YamlEntry& spec, Mesh& mesh) {
   Eigen::Matrix3d frame;
   frame << a0, a1, a0.cross(a1);
   mesh.fibreFrame.assign(mesh.numTets(), frame);
+  mesh.hexFibreFrame.assign(mesh.numHexes(), frame);
 }
 
 void applyBoundary(const YamlEntry& spec, System& system) {

@@ -20,6 +20,7 @@
 #include <Eigen/Core>
 
 #include "tissue_trainer/core/integrate/integrator.h"
+#include "tissue_trainer/core/solve/krylov.h"
 
 namespace tt {
 
@@ -59,13 +60,14 @@ class BackwardEulerIntegrator : public Integrator {
   // Solves A x = b (x holds the initial guess); returns the iterations used.
   int solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
   int solveUnit(const Eigen::VectorXd& b, Eigen::VectorXd& x);  // max |b_i| = 1
-  bool conjugateGradients(const Eigen::VectorXd& b, Eigen::VectorXd& x, int& iterations);
 
   BackwardEulerDiagnostics diagnostics_;
   SparseMatrix K_, A_;
   std::vector<int> diagonal_;  // offset of (i, i) in A_'s value array
   Eigen::VectorXd dv_, f_, rhs_, constrainedDv_, residual_, correction_;
-  Eigen::VectorXd unitB_, r_, z_, p_, Ap_, inverseDiagonal_;
+  Eigen::VectorXd unitB_, guess_, diagonalValues_;
+  JacobiPreconditioner jacobi_;
+  KrylovWorkspace krylov_;
   Eigen::VectorXd x1_, v1_, targetX_, targetV_;
 };
 

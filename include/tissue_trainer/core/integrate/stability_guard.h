@@ -135,7 +135,8 @@ class StabilityGuard : public Integrator {
   StabilityGuardParams params_;
   GuardStats stats_;
   const System* prepared_ = nullptr;
-  std::vector<double> restVolume_;  // per tet
+  std::vector<Tet> checkedTets_;    // the mesh's tets, then the six-tet split of each hex
+  std::vector<double> restVolume_;  // per checked tet
   bool checkVolumes_ = false;
   int startDepth_ = 0;  // the next frame's first attempt takes 2^startDepth_ pieces
   int calmFrames_ = 0;  // frames passed at once since startDepth_ last changed

@@ -70,6 +70,7 @@ struct ForceModelEntry {
   std::string description;
   std::vector<KeyDoc> keys;            // accepted besides `type`
   std::vector<ModelPreset> presets;    // the named configurations (may be empty)
+  bool coversHexes = false;            // false: a mesh with hexahedra is refused
   ForceModelFactory make;
 };
 
