@@ -126,8 +126,9 @@ def main():
         for name, r in results:
             w.writerow([name] + [f"{r[k]:.6g}" if isinstance(r[k], float) else r[k] for k in keys])
     head = ["profile", "RMS error (N)", "max error (N)", "peak |F| (N)", "largest step (N/tick)",
-            "within limits", "watchdog trips", "model gaps > timeout", "longest gap (ms)",
+            "steps over rate limit", "within limits", "watchdog trips", "model gaps > timeout", "longest gap (ms)",
             "time to recover (ms)", "models received"]
+    assert len(head) == len(keys) + 1, "one column heading per result key"
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for name, r in results:
         lines.append("| " + " | ".join([name] + [cell(r[k]) for k in keys]) + " |")

@@ -83,6 +83,19 @@ void System::assembleStiffness(const Eigen::VectorXd& x, SparseMatrix& K) const 
     if (model->hasStiffness()) model->addStiffness(x, 1.0, pattern, K);
 }
 
+bool System::hasVelocityJacobian() const {
+  return std::any_of(models.begin(), models.end(),
+                     [](const auto& m) { return m->hasVelocityJacobian(); });
+}
+
+void System::assembleVelocityJacobian(const Eigen::VectorXd& x, const Eigen::VectorXd& v,
+                                      SparseMatrix& C) const {
+  if (C.nonZeros() == 0) C = pattern.zeroMatrix();
+  std::fill(C.valuePtr(), C.valuePtr() + C.nonZeros(), 0.0);
+  for (const auto& model : models)
+    if (model->hasVelocityJacobian()) model->addVelocityJacobian(x, v, 1.0, pattern, C);
+}
+
 void System::prescribe(double t, Eigen::VectorXd& x, Eigen::VectorXd& v) const {
   for (int n = 0; n < numNodes(); ++n) {
     const std::uint8_t tags = mesh.nodeTags[n];

@@ -60,6 +60,13 @@ class System {
   // K = sum of the models' df/dx at x, with the system pattern (K is resized if empty).
   void assembleStiffness(const Eigen::VectorXd& x, SparseMatrix& K) const;
 
+  // True when a model has velocity-dependent forces with an assembled df/dv.
+  bool hasVelocityJacobian() const;
+  // C = sum of the models' df/dv at (x, v), with the system pattern (C is resized if empty).
+  // The per-DOF `damping` is not in it (implicit integrators add it on the diagonal).
+  void assembleVelocityJacobian(const Eigen::VectorXd& x, const Eigen::VectorXd& v,
+                                SparseMatrix& C) const;
+
   // Writes the prescribed positions and velocities of constrained DOFs at time t.
   void prescribe(double t, Eigen::VectorXd& x, Eigen::VectorXd& v) const;
   // Sets the entries of constrained DOFs to zero.

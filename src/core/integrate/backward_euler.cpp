@@ -17,7 +17,8 @@ double freeNorm(const System& system, Eigen::VectorXd r) {
 
 }  // namespace
 
-void BackwardEulerIntegrator::buildMatrix(const System& system, double h) {
+void BackwardEulerIntegrator::buildMatrix(const System& system, double h,
+                                          const Eigen::VectorXd& x, const Eigen::VectorXd& v) {
   if (A_.rows() != K_.rows() || A_.nonZeros() != K_.nonZeros()) {
     A_ = K_;
     diagonal_.assign(A_.rows(), -1);
@@ -31,6 +32,10 @@ void BackwardEulerIntegrator::buildMatrix(const System& system, double h) {
   for (Eigen::Index i = 0; i < K_.nonZeros(); ++i) a[i] = scale * k[i];
   for (int row = 0; row < A_.rows(); ++row)
     a[diagonal_[row]] += system.mass[row] + h * system.damping[row];
+  if (!system.hasVelocityJacobian()) return;
+  system.assembleVelocityJacobian(x, v, C_);
+  const double* c = C_.valuePtr();  // the same pattern as K
+  for (Eigen::Index i = 0; i < C_.nonZeros(); ++i) a[i] -= h * c[i];
 }
 
 int BackwardEulerIntegrator::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
@@ -85,7 +90,7 @@ bool BackwardEulerIntegrator::substep(System& system, double h, double endTime,
   system.computeForce(s.x, s.v, f_);
   system.assembleStiffness(s.x, K_);
   ++report.jacobians;
-  buildMatrix(system, h);
+  buildMatrix(system, h, s.x, s.v);
 
   // Constrained DOFs: dv that lands x + h (v + dv) on the prescribed position at t + h.
   targetX_ = s.x;
@@ -135,7 +140,7 @@ bool BackwardEulerIntegrator::substep(System& system, double h, double endTime,
       if (solves >= params.newtonIterations) break;
       system.assembleStiffness(x1_, K_);
       ++report.jacobians;
-      buildMatrix(system, h);
+      buildMatrix(system, h, x1_, v1_);
       system.constrainMatrix(A_);
       correction_.setZero(n);
       report.linearIterations += solve(-residual_, correction_);

@@ -1,5 +1,6 @@
 // Registers hyperelastic (model/hyperelastic.h): the law's own entry builds it.
 #include <cmath>
+#include <stdexcept>
 
 #include "tissue_trainer/core/scene/registry.h"
 
@@ -32,7 +33,11 @@ void registerHyperelasticModel(Registry& registry) {
     options.psdProjection = spec.boolean("psd_projection", false);
     if (context.mesh.tets.empty() && context.mesh.hexes.empty())
       spec.fail("the mesh has no tetrahedra or hexahedra");
-    return law.makeHyperelastic(context, options);
+    try {
+      return law.makeHyperelastic(context, options);
+    } catch (const std::invalid_argument& e) {  // an element inverted or flat at rest
+      spec.fail(e.what());
+    }
   };
   registry.add(std::move(e));
 }

@@ -266,6 +266,27 @@ std::vector<std::string> materialKeys() {
   return keys;
 }
 
+// A law's key in a `materials` entry when no force model of the scene uses that law would be
+// read by nothing: an error at the key, not a silent no-op.
+void rejectUnusedLawKeys(const YamlEntry& materialList, const YamlEntry& models) {
+  std::vector<std::string> used;
+  for (size_t k = 0; k < models.size(); ++k)
+    if (models[k].has("law")) used.push_back(models[k]["law"].text());
+  const auto readByUsedLaw = [&](const std::string& key) {
+    for (const std::string& name : used)
+      if (const LawEntry* law = registry().findLaw(name))
+        for (const KeyDoc& k : law->materialKeys)
+          if (k.key == key) return true;
+    return false;
+  };
+  for (size_t m = 0; m < materialList.size(); ++m)
+    for (const LawEntry& law : registry().laws())
+      for (const KeyDoc& k : law.materialKeys)
+        if (materialList[m].has(k.key.c_str()) && !readByUsedLaw(k.key))
+          materialList[m][k.key.c_str()].fail("read by the law '" + law.name +
+                                              "', which no force model of this scene uses");
+}
+
 Material parseMaterial(const YamlEntry& spec) {
   spec.expectMap(materialKeys());
   const double unit = spec.has("stress_unit") ? stressUnit(spec["stress_unit"]) : 1.0;
@@ -454,6 +475,12 @@ Scene loadScene(const std::string& path) {
   for (size_t k = 0; k < materialList.size(); ++k) context.materialEntries.push_back(materialList[k]);
   for (size_t k = 0; k < models.size(); ++k)
     system.models.push_back(registry().makeForceModel(models[k], context));
+  rejectUnusedLawKeys(materialList, models);
+  for (const auto& model : system.models)
+    if (!model->couplings().empty()) {
+      system.addCouplingsToPattern();
+      break;
+    }
   if (top.has("loads")) applyLoads(top["loads"], system);
   if (top.has("boundary")) applyBoundary(top["boundary"], system);
   system.prescribe(0.0, system.state.x, system.state.v);

@@ -99,5 +99,33 @@ TEST(ElementScenes, SliverMeshRunsWithNeoHookeanWhereStvkStops) {
   EXPECT_NE(bare.failure.find("inverted or flat"), std::string::npos) << bare.failure;
 }
 
+// Seed 001's pairing of a constitutive law with its volume term: two hyperelastic models on one
+// mesh, the volume law's keys in the material. A law key that no model reads is an error.
+TEST(ElementScenes, StvkPlusVolumeTermAndUnusedLawKeys) {
+  const char* const text = R"(
+mesh: {generator: box, nodes: [4, 3, 3], size: [30, 20, 20], length_unit: mm, split: none}
+materials: [{young_modulus: 20, stress_unit: kPa, poisson_ratio: 0.3, volume_stiffness: 50}]
+force_models: [{type: hyperelastic, law: stvk}, {type: hyperelastic, law: volume}]
+integrator: {type: backward_euler}
+boundary: {fixed: [{box: {min: [-1, -1, -1], max: [0.001, 1, 1]}}]}
+loads: {gravity: [0, 0, -9.81], rayleigh_mass: 5.0}
+)";
+  Scene scene = sceneFrom(text, "tt_stvk_volume");
+  ASSERT_EQ(scene.system.models.size(), 3u);  // two laws and gravity
+  const RunSummary run = runScene(scene, {0.2, "", nullptr});
+  EXPECT_TRUE(run.ok) << run.failure;
+
+  std::string unused = std::regex_replace(std::string(text), std::regex(R"(, \{type: hyperelastic, law: volume\})"), "");
+  try {
+    sceneFrom(unused, "tt_unused_law_key");
+    FAIL() << "a volume_stiffness no model reads was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("materials[0].volume_stiffness: read by the law 'volume', "
+                                         "which no force model of this scene uses"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace tt

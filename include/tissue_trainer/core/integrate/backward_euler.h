@@ -55,14 +55,16 @@ class BackwardEulerIntegrator : public Integrator {
 
  private:
   bool substep(System& system, double h, double endTime, StepReport& report);
-  // A = M + h C - h^2 K with the system's constraints applied (identity rows and columns).
-  void buildMatrix(const System& system, double h);
+  // A = M + h c - h^2 K - h D at (x, v): c the per-DOF damping, D the models' df/dv (damping
+  // and friction forces are implicit). The caller applies the constraints.
+  void buildMatrix(const System& system, double h, const Eigen::VectorXd& x,
+                   const Eigen::VectorXd& v);
   // Solves A x = b (x holds the initial guess); returns the iterations used.
   int solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
   int solveUnit(const Eigen::VectorXd& b, Eigen::VectorXd& x);  // max |b_i| = 1
 
   BackwardEulerDiagnostics diagnostics_;
-  SparseMatrix K_, A_;
+  SparseMatrix K_, A_, C_;
   std::vector<int> diagonal_;  // offset of (i, i) in A_'s value array
   Eigen::VectorXd dv_, f_, rhs_, constrainedDv_, residual_, correction_;
   Eigen::VectorXd unitB_, guess_, diagonalValues_;

@@ -4,7 +4,7 @@
 
 #include <cstdio>
 
-#include "model_test_util.h"
+#include "../model_test_util.h"
 #include "tissue_trainer/core/model/edge_length.h"
 #include "tissue_trainer/core/model/stvk_displacement.h"
 

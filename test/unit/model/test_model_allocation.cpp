@@ -5,7 +5,7 @@
 #include <atomic>
 #include <cstdlib>
 
-#include "model_test_util.h"
+#include "../model_test_util.h"
 #include "tissue_trainer/core/model/edge_length.h"
 #include "tissue_trainer/core/model/gravity.h"
 #include "tissue_trainer/core/model/stvk_displacement.h"

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "kinematics_chain_util.h"
+#include "../kinematics_chain_util.h"
 #include "tissue_trainer/core/error.h"
 #include "tissue_trainer/core/kinematics/tip_ik.h"
 #include "tissue_trainer/core/mesh/mesh_io.h"

@@ -16,7 +16,7 @@
 #include <utility>
 #include <vector>
 
-#include "csv_test_util.h"
+#include "../csv_test_util.h"
 
 namespace tt {
 namespace {

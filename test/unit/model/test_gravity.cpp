@@ -1,7 +1,7 @@
 // Lumped gravity: f_i = m_i g, energy -m g . x, zero stiffness.
 #include <gtest/gtest.h>
 
-#include "model_test_util.h"
+#include "../model_test_util.h"
 #include "tissue_trainer/core/model/gravity.h"
 #include "tissue_trainer/core/system.h"
 

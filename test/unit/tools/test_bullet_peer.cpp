@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "csv_test_util.h"
+#include "../csv_test_util.h"
 
 namespace tt {
 namespace {

@@ -2,7 +2,7 @@
 // its fast (F, E, S) and literal (Eq 31) paths and their shared analytic stiffness.
 #include <gtest/gtest.h>
 
-#include "model_test_util.h"
+#include "../model_test_util.h"
 #include "tissue_trainer/core/model/edge_length.h"
 
 namespace tt {

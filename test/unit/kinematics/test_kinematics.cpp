@@ -4,7 +4,7 @@
 
 #include <random>
 
-#include "kinematics_chain_util.h"
+#include "../kinematics_chain_util.h"
 #include "tissue_trainer/core/kinematics/tip_ik.h"
 
 namespace tt::kin {
