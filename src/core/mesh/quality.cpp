@@ -8,6 +8,8 @@
 #include <limits>
 #include <unordered_map>
 
+#include "tissue_trainer/core/element/hex8.h"
+
 namespace tt {
 
 namespace {
@@ -142,10 +144,18 @@ MeshQuality meshQuality(const Mesh& mesh, const QualityOptions& options) {
     if (degenerate) ++q.degenerate;
     else if (v < 0.0) ++q.inverted;
   }
+  // A hex is checked through the six tets of its split: one flat or inverted tet makes the
+  // hex degenerate or inverted, even when its total volume is positive (a twisted hex).
   for (const Hex& h : mesh.hexes) {
-    const double v = hexVolume(mesh.rest, h);
-    addVolume(v);
-    if (v < 0.0) ++q.inverted;
+    addVolume(hexVolume(mesh.rest, h));
+    bool degenerate = false, inverted = false;
+    for (int k = 0; k < 6; ++k) {
+      const Tet t = Hex8::sixTet(h, k);
+      degenerate = degenerate || !(tetNormalisedVolume(mesh.rest, t) >= options.degenerateVolume);
+      inverted = inverted || tetVolume(mesh.rest, t) < 0.0;
+    }
+    if (degenerate) ++q.degenerate;
+    else if (inverted) ++q.inverted;
   }
   if (!mesh.tets.empty() || !mesh.hexes.empty()) {
     q.volumeMin = vmin;

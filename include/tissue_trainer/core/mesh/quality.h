@@ -24,7 +24,7 @@ struct MeshQuality {
   // Tet aspect ratio Lmax / (2 sqrt(6) r), r = inradius = 3|V| / (sum of face areas):
   // 1 for the regular tet, growing without bound as a tet flattens (infinite when V = 0).
   double aspectMin = 0.0, aspectMedian = 0.0, aspectMax = 0.0;
-  int inverted = 0;     // volume < 0 and not degenerate
+  int inverted = 0;     // volume < 0 and not degenerate (a hex: any tet of its six-tet split)
   int degenerate = 0;   // tets with normalised volume below QualityOptions::degenerateVolume
   int duplicateNodes = 0;  // nodes lying within the tolerance of an earlier node
   int unusedNodes = 0;     // nodes referenced by no tet or hex
