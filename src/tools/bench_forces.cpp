@@ -1,4 +1,5 @@
-// Force-evaluation throughput of the tet models (seed 000 and the generic hyperelastic) on box grids (6 tets per cell), on
+// Force-evaluation throughput of the tet models (edge_length, stvk_displacement, tensor_mass and
+// the generic hyperelastic) on box grids (6 tets per cell), on
 // one and two threads (tt::setThreadCount): million tets per second per core (median of
 // repeats), each path's time relative to the edge_length fast path, and beside it the maximum
 // relative difference of its forces against the fast path on one thread (the two-thread

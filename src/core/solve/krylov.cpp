@@ -139,7 +139,7 @@ SolveReport biCgStab(const LinearOperator& A, const Eigen::VectorXd& b, Eigen::V
 }
 
 // Restarted GMRES(m) with modified Gram-Schmidt and Givens rotations (Saad, "Iterative
-// methods for sparse linear systems", 2nd ed., Alg. 6.9 with right preconditioning, Sec. 9.3.2).
+// methods for sparse linear systems", 2nd ed., Secs. 6.5 and 9.3.2: right-preconditioned).
 SolveReport gmres(const LinearOperator& A, const Eigen::VectorXd& b, Eigen::VectorXd& x,
                   const Preconditioner& M, const SolveSettings& settings, KrylovWorkspace& w) {
   SolveReport report;

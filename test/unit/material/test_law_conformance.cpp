@@ -202,8 +202,9 @@ TEST(InversionHandling, InvertedGradientsGetAFiniteRestoringStress) {
   EXPECT_EQ(point.F, F);
 }
 
-// The volume law with r != 1 (seed 001 Eq 2.101): the exact stress 2 p (J - r) cof F, which
-// the printed Eq 2.100 misses by a sign in (2 E_kk - 1); here it is checked against the energy.
+// The volume law with r != 1 ("Adamss: Advanced Anisotropic Mass-Spring System", Eq. 2.101):
+// the exact stress P = 2 p (J - r) cof F, i.e. S = 2 p J (J - r) C^-1. The printed Eq. 2.100
+// has (2 E_kk - 1) where (2 E_kk + 1) belongs; here the stress is checked against the energy.
 TEST(VolumeLaw, DrivenVolumeStressIsTheEnergyGradient) {
   std::mt19937 rng(18);
   const VolumeLaw::Parameters p{5e3, 0.8};

@@ -218,7 +218,7 @@ TYPED_TEST(HyperelasticConformance, HexesAndTheirTetSplitsConvergeUnderRefinemen
   EXPECT_LT(gaps[2], 0.02 * energy);
 }
 
-// The generic model with the stvk law is seed 000's energy: the same forces as edge_length.
+// The generic model with the stvk law is the edge_length model's energy: the same forces.
 TEST(Hyperelastic, StvkLawOnTetsGivesTheSeed000Forces) {
   std::mt19937 rng(28);
   const Mesh mesh = boxMesh(3, 2, 2, 0.01, rng);

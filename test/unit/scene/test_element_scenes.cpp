@@ -1,6 +1,6 @@
 // Scenes over the generic element model: a hex-only mesh runs dynamically, a tet-only model
 // refuses hexes, and a real mesh with slivers runs under the Neo-Hookean law with inversion
-// handling where the seed-000 StVK stops.
+// handling where the edge_length StVK stops.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -118,8 +118,9 @@ TEST(ElementScenes, SliverMeshRunsWithNeoHookeanWhereStvkStops) {
   EXPECT_NE(bare.failure.find("inverted or flat"), std::string::npos) << bare.failure;
 }
 
-// Seed 001's pairing of a constitutive law with its volume term: two hyperelastic models on one
-// mesh, the volume law's keys in the material. A law key that no model reads is an error.
+// The Adamss pairing of a constitutive law with its volume term ("Adamss: Advanced Anisotropic
+// Mass-Spring System", Secs. 2.4.2.3-2.4.2.4): two hyperelastic models on one mesh, the
+// volume law's keys in the material. A law key that no model reads is an error.
 TEST(ElementScenes, StvkPlusVolumeTermAndUnusedLawKeys) {
   const char* const text = R"(
 mesh: {generator: box, nodes: [4, 3, 3], size: [30, 20, 20], length_unit: mm, split: none}

@@ -1,6 +1,7 @@
 #pragma once
-// Transversely isotropic St Venant-Kirchhoff law, the one seed 000's tet models use (its fast
-// kernels keep their own copy in model/stvk_kernel.h):
+// Transversely isotropic St Venant-Kirchhoff law, the energy of the tet models of Jeffrey, "A
+// non-linear anisotropic finite element method for surgical simulation" (edge_length,
+// stvk_displacement; their fast kernels keep their own copy in model/stvk_kernel.h):
 //   psi = lambda/2 tr(E)^2 + mu tr(E^2) + c (a0 . E a0)^2,   E = (F^T F - I)/2,
 //   S = lambda tr(E) I + 2 mu E + 2 c (a0 . E a0) a0 a0^T,    P = F S,
 // with a0 the element's fibre axis and c = (lambda_L - lambda)/2 + (mu_L - mu) from the

@@ -1,10 +1,10 @@
 #pragma once
-// Volume term of the Adamss mass-spring system (Roth, "Adaptive anisotropic mass-spring
-// systems", Sec. 2.4.2.3, Eq. 2.101), written in F:
+// Volume term of the Adamss mass-spring system (the thesis chapter "Adamss: Advanced
+// Anisotropic Mass-Spring System", Secs. 2.4.2.3-2.4.2.4, Eqs. 2.86 and 2.101), written in F:
 //   psi = p (J - r)^2,   J = det F,   P = 2 p (J - r) cof F,   cof F = J F^-T,
 //   dP = 2 p [ (cof F : dF) cof F + (J - r) d(cof F) ].
-// The printed stress of Eq. 2.100 has a sign slip in its (2 E_kk - 1) factor and a factor 1/2;
-// this is the exact derivative (S = 2 p J (J - r) C^-1). It is a polynomial in F, so it is
+// The printed table of Eq. 2.100 has (2 E_kk - 1) where (2 E_kk + 1) belongs; this is the exact
+// derivative, S = F^-1 P = 2 p J (J - r) C^-1. It is a polynomial in F, so it is
 // defined for inverted elements too (cof F is built from cross products of F's columns).
 // r = 1 keeps the rest volume (Eq. 2.86); r = V_inf / V0 drives it towards V_inf.
 #include <Eigen/Core>
