@@ -274,7 +274,7 @@ int forces(const Arguments& args) {
     for (const std::string& n : tt::registry().presetNames()) known += (known.empty() ? "" : ", ") + n;
     throw UsageError("--model expects one of: " + known + "; got '" + args.text("model") + "'");
   }
-  return printForcesAt(args, {model.get()}, tt::SparsePattern(mesh.numNodes(), mesh.tets),
+  return printForcesAt(args, {model.get()}, tt::meshPattern(mesh),
                        mesh.numNodes());
 }
 

@@ -38,8 +38,8 @@ class System {
   // Builds the sparsity pattern (tets and hexes) and lumped masses ("Adamss: Advanced Anisotropic
   // Mass-Spring System", Sec. 2.3.1.1, Eq. 2.3, m_i = sum_k rho_k V_k / N_k: each
   // node gets rho * V0 / 4 of every tet and rho * V0 / 8 of every hex it belongs to), state at
-  // rest, no models, no damping. A mesh lists either tets or hexes as its elements (the box
-  // generator's tet split of its hexes is one or the other: the scene keeps one).
+  // rest, no models, no damping. Tets and hexes are both elements (a mixed mesh has both; the
+  // box generator gives one or the other, never a hex and its own tet split).
   System(Mesh mesh, std::vector<Material> materials);
 
   int numNodes() const { return mesh.numNodes(); }

@@ -15,7 +15,6 @@ const char* outcomeName(SolveOutcome outcome) {
 }
 
 bool JacobiPreconditioner::setDiagonal(const Eigen::VectorXd& diagonal) {
-  diagonal_ = diagonal;
   inverse_.resize(diagonal.size());
   bool usable = true;
   positive_ = true;
@@ -97,20 +96,19 @@ SolveReport biCgStab(const LinearOperator& A, const Eigen::VectorXd& b, Eigen::V
   if (zeroRightSide(b, x, report)) return report;
   const double bNorm = b.norm(), threshold = settings.tolerance * bNorm;
   if (startResidual(A, b, x, threshold, bNorm, w, report)) return report;
-  const Eigen::VectorXd& shadow = w.q;  // r0^, fixed from here on
-  w.q = w.r;
+  w.shadow = w.r;
   w.p.setZero(b.size());
   w.v.setZero(b.size());
   double rho = 1.0, alpha = 1.0, omega = 1.0;
   while (report.iterations < settings.maxIterations) {
-    const double rhoNext = shadow.dot(w.r);
+    const double rhoNext = w.shadow.dot(w.r);
     if (rhoNext == 0.0 || omega == 0.0) break;
     w.p = w.r + (rhoNext / rho) * (alpha / omega) * (w.p - omega * w.v);
     rho = rhoNext;
     M.apply(w.p, w.y);
     A.apply(w.y, w.v);
     ++report.iterations;
-    const double denominator = shadow.dot(w.v);
+    const double denominator = w.shadow.dot(w.v);
     if (denominator == 0.0) break;
     alpha = rho / denominator;
     w.s = w.r - alpha * w.v;

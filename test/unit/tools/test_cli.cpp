@@ -294,6 +294,42 @@ TEST(Cli, FlagFormStiffnessTimesIsMinusKd) {
   EXPECT_LT((out.stiffnessTimes - expected).norm(), 1e-12 * expected.norm());
 }
 
+// A hex mesh in the flag form: the hyperelastic preset's K d over the hexes' pattern, and a
+// tet-only model refused in one line.
+TEST(Cli, FlagFormOnAHexMesh) {
+  const Mesh mesh = boxGrid(3, 3, 3, Eigen::Vector3d(0.02, 0.02, 0.02), TetSplit::kNone);
+  const fs::path dir = fs::temp_directory_path() / "tt_cli_hex";
+  fs::create_directories(dir);
+  writeMesh((dir / "hex.vtu").string(), mesh);
+  const Mesh read = readMesh((dir / "hex.vtu").string());
+  ASSERT_EQ(read.numHexes(), 8);
+  Eigen::VectorXd x = read.rest.reshaped(), d(x.size());
+  for (int i = 0; i < x.size(); ++i) {
+    x[i] *= 1.0 + 0.05 * std::sin(1.3 * i);
+    d[i] = std::cos(0.7 * i);
+  }
+  const std::string files = " --deformed " + writeNodeVectors("hex_x.txt", x).string() +
+                            " --stiffness-times " + writeNodeVectors("hex_d.txt", d).string() +
+                            " --lambda 2000 --mu 1000 --mesh " + (dir / "hex.vtu").string();
+  const Result r = runCli("forces --model hyperelastic_neo_hookean" + files);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const ForcesOutput out = parseForces(r.out, read.numNodes(), true);
+  Material m;
+  m.lambda = m.lambdaL = 2000.0;
+  m.mu = m.muL = 1000.0;
+  const auto model = makeElasticModel("hyperelastic_neo_hookean", read, {m});
+  const SparsePattern pattern = meshPattern(read);
+  SparseMatrix K = pattern.zeroMatrix();
+  model->addStiffness(x, 1.0, pattern, K);
+  const Eigen::VectorXd expected = -(K * d);
+  EXPECT_LT((out.stiffnessTimes - expected).norm(), 1e-12 * expected.norm());
+
+  const Result refused = runCli("forces --model edge_length" + files);
+  EXPECT_EQ(refused.exitCode, 2);
+  EXPECT_NE(refused.err.find("covers tetrahedra only"), std::string::npos) << refused.err;
+  EXPECT_EQ(std::count(refused.err.begin(), refused.err.end(), '\n'), 1) << refused.err;
+}
+
 TEST(Cli, ForcesOfASceneRejectBadInputInOneLine) {
   const fs::path scene = writeForcesScene();
   const std::string sceneArg = "forces --scene " + scene.string();

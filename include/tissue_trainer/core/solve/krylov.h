@@ -55,7 +55,7 @@ class JacobiPreconditioner final : public Preconditioner {
   }
 
  private:
-  Eigen::VectorXd inverse_, diagonal_;
+  Eigen::VectorXd inverse_;
   bool positive_ = false;
 };
 
@@ -84,6 +84,7 @@ struct SolveReport {
 // Vectors the solvers keep between calls.
 struct KrylovWorkspace {
   Eigen::VectorXd r, z, p, q, s, t, v, y;
+  Eigen::VectorXd shadow;  // BiCGSTAB: the fixed shadow residual r0^
   std::vector<Eigen::VectorXd> basis;  // GMRES
   Eigen::MatrixXd hessenberg;
   Eigen::VectorXd cosines, sines, g;
