@@ -1,6 +1,8 @@
 #!/usr/bin/python3
-"""Sums gtest/rostest JUnit XML result files: prints 'N passed, N failed[, N skipped]'.
-Exit 0 only when at least one test ran and none failed."""
+"""Sums gtest/rostest JUnit XML result files: prints one line per failed test (file, suite and
+name), then 'N passed, N failed[, N skipped]'. Exit 0 only when at least one test ran and none
+failed."""
+import os
 import sys
 import xml.etree.ElementTree as ET
 
@@ -15,6 +17,7 @@ for path in sys.argv[1:]:
     for case in root.iter("testcase"):
         if case.find("failure") is not None or case.find("error") is not None:
             failed += 1
+            print(f"FAILED: {os.path.basename(path)}: {case.get('classname')}.{case.get('name')}")
         elif case.find("skipped") is not None or case.get("status") == "notrun":
             skipped += 1
         else:
