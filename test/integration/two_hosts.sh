@@ -99,6 +99,7 @@ ip netns exec "$ns_b" bash -c "exec 3<>/dev/tcp/$addr_a/$port" 2>/dev/null ||
 topics_a="/tissue/contact,/tissue/status,/tissue/surface,/tissue/surface_marker,/camera/image_raw,/assessment/summary"
 topics_b="/device/measured_cp,/device/measured_js,/device/enable,/device/servo_cf,/instrument/measured_cp,/instrument/measured_cv,/instrument/jaw/measured_js,/tf,/haptic_bridge/status"
 mark="$work/contact_mark"
+head -1 /proc/stat >"$work/cpu_start"
 host "$ns_b" "$addr_b" B "$bin" --duration 90 --out "$work/B" --contact /tissue/contact \
   --topics "$topics_a" --mark-force 0.3 --mark-file "$mark" >"$work/B/probe.log" 2>&1 &
 probe_b=$!
@@ -129,5 +130,6 @@ sleep 5.0   # recovery, still in the hold
 
 kill -INT "$probe_a" "$probe_b" 2>/dev/null
 wait "$probe_a" "$probe_b" 2>/dev/null
+head -1 /proc/stat >"$work/cpu_end"
 /usr/bin/python3 "$repo/test/integration/two_hosts_check.py" "$work" "$xml" \
   "$repo/config/haptic_bridge.yaml" "$topics_a" "$topics_b"
