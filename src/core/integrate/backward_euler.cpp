@@ -83,9 +83,29 @@ int BackwardEulerIntegrator::solveUnit(const Eigen::VectorXd& b, Eigen::VectorXd
   return cgIterations + report.iterations;
 }
 
-bool BackwardEulerIntegrator::substep(System& system, double h, double endTime,
-                                      StepReport& report) {
-  State& s = system.state;
+BackwardEulerIntegrator::BackwardEulerIntegrator(BackwardEulerParams params)
+    : SteppedIntegrator(
+          std::make_unique<FixedStepControl>(FixedStepControl::ofCount(params.substeps))),
+      params(params) {}
+
+FrameStart BackwardEulerIntegrator::beginFrame(System& system, double) {
+  FrameStart start;
+  if (!system.hasStiffness())
+    start.failure = "backward_euler: every force model must provide its stiffness";
+  return start;
+}
+
+StepAttempt BackwardEulerIntegrator::attempt(System& system, const StepContext& step,
+                                             StepReport& report) {
+  StepAttempt out;
+  const auto failed = [&out](StepStatus status, std::string why) {
+    out.status = status;
+    out.failure = std::move(why);
+    return out;
+  };
+  const State& s = system.state;
+  const double h = step.h, endTime = step.end;
+  const int linearBefore = report.linearIterations;
   const Eigen::Index n = s.x.size();
   system.computeForce(s.x, s.v, f_);
   system.assembleStiffness(s.x, K_);
@@ -105,8 +125,8 @@ bool BackwardEulerIntegrator::substep(System& system, double h, double endTime,
   for (int dof : system.constrainedDofs) rhs_[dof] = constrainedDv_[dof];
   if (!rhs_.allFinite() || !Eigen::Map<const Eigen::VectorXd>(A_.valuePtr(), A_.nonZeros())
                                .allFinite()) {
-    report.failure = "backward_euler: non-finite force or stiffness at t = " + std::to_string(s.t);
-    return false;
+    return failed(StepStatus::kFailed,
+                  "backward_euler: non-finite force or stiffness at t = " + std::to_string(s.t));
   }
   system.constrainMatrix(A_);
   if (!params.warmStart || dv_.size() != n) dv_.setZero(n);
@@ -133,9 +153,9 @@ bool BackwardEulerIntegrator::substep(System& system, double h, double endTime,
         break;
       }
       if (!residual_.allFinite()) {
-        report.failure = "backward_euler: non-finite force in Newton iteration at t = " +
-                         std::to_string(s.t);
-        return false;
+        return failed(StepStatus::kFailed,
+                      "backward_euler: non-finite force in Newton iteration at t = " +
+                          std::to_string(s.t));
       }
       if (solves >= params.newtonIterations) break;
       system.assembleStiffness(x1_, K_);
@@ -152,55 +172,28 @@ bool BackwardEulerIntegrator::substep(System& system, double h, double endTime,
   if (!converged) {
     ++diagnostics_.unconvergedNewton;
     if (params.requireConvergence) {
-      report.failure = "backward_euler: Newton did not converge in " +
-                       std::to_string(params.newtonIterations) + " iterations at t = " +
-                       std::to_string(s.t);
-      return false;
+      return failed(StepStatus::kNotConverged,
+                    "backward_euler: Newton did not converge in " +
+                        std::to_string(params.newtonIterations) + " iterations at t = " +
+                        std::to_string(s.t));
     }
   }
-
-  s.v += dv_;
-  s.x += h * s.v;
-  s.t = endTime;
-  system.prescribe(s.t, s.x, s.v);
 
   // Local error of backward Euler in position: h^2/2 x'' ~ h/2 dv (free DOFs, max norm).
   correction_ = 0.5 * h * dv_;
   system.zeroConstrained(correction_);
-  const double estimate = correction_.lpNorm<Eigen::Infinity>();
-  if (!(report.errorEstimate >= estimate)) report.errorEstimate = estimate;
-  return true;
+  out.measure.error = correction_.lpNorm<Eigen::Infinity>();
+  out.measure.iterations = report.linearIterations - linearBefore;
+  return out;
 }
 
-StepReport BackwardEulerIntegrator::advance(System& system, double frameTime) {
-  StepReport report;
-  detail::FrameGuard guard(system.state);
-  if (!system.hasStiffness()) {
-    guard.restore(system.state, report,
-                  "backward_euler: every force model must provide its stiffness");
-    return report;
-  }
-  const int n = std::max(1, params.substeps);
-  const double h = frameTime / n;
-  for (int i = 0; i < n; ++i) {
-    if (!substep(system, h, detail::substepEnd(guard.start().t, frameTime, i, n), report)) {
-      const std::string why = report.failure;
-      guard.restore(system.state, report, why);
-      dv_.setZero();
-      break;
-    }
-    if (!detail::FrameGuard::finite(system.state)) {
-      guard.restore(system.state, report,
-                    "backward_euler: non-finite state at t = " +
-                        std::to_string(system.state.t) + " (step " + std::to_string(h) + " s)");
-      dv_.setZero();
-      break;
-    }
-    ++report.substeps;
-    report.lastStep = h;
-  }
-  guard.finish(report);
-  return report;
+std::string BackwardEulerIntegrator::accept(System& system, const StepContext& step) {
+  State& s = system.state;
+  s.v += dv_;
+  s.x += step.h * s.v;
+  s.t = step.end;
+  system.prescribe(s.t, s.x, s.v);
+  return "";
 }
 
 }  // namespace tt

@@ -26,11 +26,13 @@ void NewtonianIntegrator::start(const System& system, double h) {
   hasHistory_ = true;
 }
 
-void NewtonianIntegrator::substep(System& system, double h, double endTime) {
-  State& s = system.state;
+StepAttempt NewtonianIntegrator::attempt(System& system, const StepContext& step, StepReport&) {
+  const State& s = system.state;
+  const double h = step.h;
+  if (!hasHistory_) start(system, h);
   undampedForce(system, s, force_);
-  const double h1 = params.assumeEqualSteps ? h : previousStep_;  // seed's Delta t
-  const double eta = params.assumeEqualSteps ? 1.0 : h / previousStep_;
+  const double h1 = params_.assumeEqualSteps ? h : previousStep_;  // the paper's Delta t
+  const double eta = params_.assumeEqualSteps ? 1.0 : h / previousStep_;
   const auto m = system.mass.array();
   const auto gamma = system.damping.array();
   // Lazy coefficient expressions (no temporaries): Eq 11 solved for x+, per DOF.
@@ -40,23 +42,30 @@ void NewtonianIntegrator::substep(System& system, double h, double endTime) {
   nextX_.resize(s.x.size());
   nextX_.array() = (force_.array() + current * s.x.array() - previous * previousX_.array()) / lhs;
   frozen_.clear();
-  if (params.forceThreshold > 0.0) freezeLowForceNodes(system);
+  if (params_.forceThreshold > 0.0) freezeLowForceNodes(system);
 
   // Second-order backward difference through x-, x, x+ with the actual steps.
   const double a = previousStep_, b = h;
-  s.v = (nextX_ * ((2.0 * b + a) / (b * (a + b))) - s.x * ((a + b) / (a * b)) +
-         previousX_ * (b / (a * (a + b))));
-  for (int node : frozen_) s.v.segment<3>(3 * node).setZero();
+  nextV_ = (nextX_ * ((2.0 * b + a) / (b * (a + b))) - s.x * ((a + b) / (a * b)) +
+            previousX_ * (b / (a * (a + b))));
+  for (int node : frozen_) nextV_.segment<3>(3 * node).setZero();
+  return {};
+}
+
+std::string NewtonianIntegrator::accept(System& system, const StepContext& step) {
+  State& s = system.state;
   previousX_.swap(s.x);
   s.x.swap(nextX_);
-  previousStep_ = h;
-  s.t = endTime;
+  s.v.swap(nextV_);
+  previousStep_ = step.h;
+  s.t = step.end;
   system.prescribe(s.t, s.x, s.v);
+  return "";
 }
 
 void NewtonianIntegrator::freezeLowForceNodes(const System& system) {
   const State& s = system.state;
-  const double threshold2 = params.forceThreshold * params.forceThreshold;
+  const double threshold2 = params_.forceThreshold * params_.forceThreshold;
   for (int node = 0; node < system.numNodes(); ++node) {
     const int dof = 3 * node;
     if (system.isConstrained[dof] && system.isConstrained[dof + 1] && system.isConstrained[dof + 2])
@@ -70,31 +79,23 @@ void NewtonianIntegrator::freezeLowForceNodes(const System& system) {
   frozenNodeSteps_ += static_cast<long>(frozen_.size());
 }
 
-StepReport NewtonianIntegrator::advance(System& system, double frameTime) {
-  StepReport report;
-  detail::FrameGuard guard(system.state);
-  const int n = detail::equalSubsteps(frameTime, currentStep(params.substep));
-  const double h = frameTime / n;
-  if (!continuesFrom(system.state)) start(system, h);
-  const Eigen::VectorXd startPrevious = previousX_;
-  const double startStep = previousStep_;
+NewtonianIntegrator::NewtonianIntegrator(NewtonianParams params)
+    : SteppedIntegrator(
+          std::make_unique<FixedStepControl>(FixedStepControl::ofLength(params.substep))),
+      params_(params) {}
 
-  for (int i = 0; i < n; ++i) {
-    substep(system, h, detail::substepEnd(guard.start().t, frameTime, i, n));
-    if (!detail::FrameGuard::finite(system.state)) {
-      guard.restore(system.state, report,
-                    "newtonian: non-finite state at t = " + std::to_string(system.state.t) +
-                        " (step " + std::to_string(h) + " s; explicit limit h < 2/omega_max)");
-      previousX_ = startPrevious;
-      previousStep_ = startStep;
-      break;
-    }
-    ++report.substeps;
-    report.lastStep = h;
-  }
+FrameStart NewtonianIntegrator::beginFrame(System& system, double) {
+  if (!continuesFrom(system.state)) hasHistory_ = false;  // start() at the first step
+  startPrevious_ = previousX_;
+  startStep_ = previousStep_;
+  return {};
+}
+
+// The history goes back to the frame's start, so the next frame continues from there.
+void NewtonianIntegrator::abandonFrame(const System& system) {
+  previousX_ = startPrevious_;
+  previousStep_ = startStep_;
   last_ = system.state;
-  guard.finish(report);
-  return report;
 }
 
 }  // namespace tt

@@ -4,7 +4,6 @@
 #include <Eigen/LU>
 #include <Eigen/SparseLU>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <complex>
 #include <limits>
@@ -136,11 +135,12 @@ struct RadauIIA::Workspace {
   // Step-size history.
   bool hasHistory = false;
   double lastStep = 0.0;    // size of the last accepted step (for extrapolation)
-  double nextStep = 0.0;    // proposal for the next step
   double lastTime = std::numeric_limits<double>::quiet_NaN();
   Eigen::VectorXd lastEnd;  // state at the end of the last frame
   double faccon = 1.0;
-  double acceptedStep = 0.0, acceptedError = 1.0;  // for the predictive controller
+  // Jacobian reuse: evaluate it at the next attempt; it was evaluated for this step.
+  bool needJacobian = true, freshJacobian = false;
+  double theta = kThetaReuse;  // Newton contraction of the last converged attempt
 
   void setup(const System& sys, RadauJacobian mode);
   void prepareFrame(const System& sys, const RadauOptions& options);
@@ -516,184 +516,148 @@ double RadauIIA::Workspace::estimateError(double t, double h, bool refine, StepR
   return std::isfinite(error) ? error : 1e10;
 }
 
+namespace {
+
+std::unique_ptr<StepSizeController> radauStepControl(const RadauOptions& o) {
+  if (!o.adaptive)
+    return std::make_unique<FixedStepControl>(FixedStepControl::ofLength(o.initialStep));
+  ErrorStepParams p;
+  p.initialStep = o.initialStep;
+  p.minStep = o.minStep;
+  p.maxStep = o.maxStep;
+  p.estimatorOrder = 3;  // the embedded method of D.21-D.22
+  p.safety = o.safety;
+  p.maxGrowth = o.maxGrowth;
+  p.maxShrink = o.maxShrink;
+  p.newtonIterationLimit = o.maxNewtonIterations;
+  return std::make_unique<ErrorStepControl>(p);
+}
+
+}  // namespace
+
 RadauIIA::RadauIIA(RadauOptions options)
-    : options_(options), work_(std::make_unique<Workspace>()) {}
+    : SteppedIntegrator(radauStepControl(options), options.maxStepsPerFrame),
+      options_(options),
+      work_(std::make_unique<Workspace>()) {}
 
 RadauIIA::~RadauIIA() = default;
 
 void RadauIIA::reset() {
   work_->hasHistory = false;
-  work_->nextStep = 0.0;
   work_->system = nullptr;  // rebuild the matrices on the next frame
 }
 
-StepReport RadauIIA::advance(System& system, double frameTime) {
-  const auto clockStart = std::chrono::steady_clock::now();
-  StepReport report;
+FrameStart RadauIIA::beginFrame(System& system, double) {
+  FrameStart start;
   Workspace& w = *work_;
   const RadauOptions& opt = options_;
-  auto finish = [&]() {
-    report.wallSeconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - clockStart).count();
-    return report;
-  };
-  if (!(frameTime > 0.0)) return finish();
-
   const bool simplified = opt.jacobian == RadauJacobian::kSimplified;
   if (w.system != &system || w.n != system.numDofs() || w.simplified != simplified ||
       (opt.jacobian == RadauJacobian::kNumerical && w.colourGroups.empty()))
     w.setup(system, opt.jacobian);
   w.prepareFrame(system, opt);
   const int n = w.n;
-
-  const State start = system.state;
-  auto fail = [&](const std::string& why) {
-    system.state = start;
-    report.ok = false;
-    report.failure = why;
-    w.hasHistory = false;
-    return finish();
-  };
   for (int j = 0; j < n; ++j)
-    if (!system.isConstrained[j] && !(system.mass[j] > 0.0))
-      return fail("radau_iia: free DOF " + std::to_string(j) + " has no mass");
-  if (opt.jacobian == RadauJacobian::kAnalytical && !system.hasStiffness())
-    return fail("radau_iia: analytical Jacobian needs every model's stiffness");
-
-  double t = start.t;
-  const double tEnd = start.t + frameTime;
+    if (!system.isConstrained[j] && !(system.mass[j] > 0.0)) {
+      start.failure = "radau_iia: free DOF " + std::to_string(j) + " has no mass";
+      return start;
+    }
+  if (opt.jacobian == RadauJacobian::kAnalytical && !system.hasStiffness()) {
+    start.failure = "radau_iia: analytical Jacobian needs every model's stiffness";
+    return start;
+  }
+  const double t = system.state.t;
   w.y0.resize(2 * n);
-  w.xs = start.x;
-  w.vs = start.v;
+  w.xs = system.state.x;
+  w.vs = system.state.v;
   system.prescribe(t, w.xs, w.vs);
   w.y0 << w.xs, w.vs;
   // Continue the step size and stage history only if nobody touched the state.
-  const bool continues = w.hasHistory && t == w.lastTime && w.lastEnd.size() == 2 * n &&
-                         w.lastEnd == w.y0;
-  if (!continues) {
+  start.continues =
+      w.hasHistory && t == w.lastTime && w.lastEnd.size() == 2 * n && w.lastEnd == w.y0;
+  if (!start.continues) {
     w.hasHistory = false;
-    w.nextStep = 0.0;
     w.faccon = 1.0;
   }
   w.F0.resize(2 * n);
-  if (!w.derivative(t, w.y0, w.F0, statistics_)) return fail("radau_iia: non-finite force");
+  if (!w.derivative(t, w.y0, w.F0, statistics_)) start.failure = "radau_iia: non-finite force";
+  w.needJacobian = true;
+  w.freshJacobian = false;
+  return start;
+}
 
-  bool first = !continues;
-  bool rejectedLast = false;
-  bool needJacobian = true, freshJacobian = false;
-  double h = w.nextStep > 0.0 ? w.nextStep : opt.initialStep;
-  const int fixedSteps =
-      opt.adaptive ? 0 : std::max(1, static_cast<int>(std::ceil(frameTime / currentStep(opt.initialStep) - 1e-9)));
-  if (!opt.adaptive) h = frameTime / fixedSteps;
-  double maxError = 0.0;
-  int attempts = 0;
-
-  while (t < tEnd && (opt.adaptive || report.substeps < fixedSteps)) {
-    if (++attempts > opt.maxStepsPerFrame) return fail("radau_iia: too many steps");
-    if (!(h >= opt.minStep)) return fail("radau_iia: step size underflow");
-    h = std::min(h, opt.maxStep);
-    const double planned = h;
-    bool last = false;
-    if (opt.adaptive && t + 1.0001 * h >= tEnd) {
-      h = tEnd - t;
-      last = true;
-    } else if (!opt.adaptive) {
-      last = report.substeps + 1 == fixedSteps;
+StepAttempt RadauIIA::attempt(System&, const StepContext& step, StepReport& report) {
+  StepAttempt out;
+  Workspace& w = *work_;
+  const double t = step.t, h = step.h;
+  if (w.needJacobian) {
+    if (!w.simplified) {
+      w.jacobian(w.y0, options_.jacobian, statistics_);
+      ++report.jacobians;
     }
-
-    if (needJacobian) {
-      if (!simplified) {
-        w.jacobian(w.y0, opt.jacobian, statistics_);
-        ++report.jacobians;
-      }
-      needJacobian = false;
-      freshJacobian = true;
-      w.factoredStep = -1.0;
+    w.needJacobian = false;
+    w.freshJacobian = true;
+    w.factoredStep = -1.0;
+  }
+  if (h != w.factoredStep) {
+    if (!w.factor(h)) {
+      out.status = StepStatus::kFailed;
+      out.failure = "radau_iia: singular Newton matrix";
+      return out;
     }
-    if (h != w.factoredStep) {
-      if (!w.factor(h)) return fail("radau_iia: singular Newton matrix");
-      if (!simplified) ++statistics_.factorizations;
-    }
-
-    w.startingValues(t, h);
-    const NewtonOutcome newton = w.newton(t, h, opt.maxNewtonIterations, report, statistics_);
-    report.newtonIterations += newton.iterations;
-
-    if (!newton.converged) {
-      if (!opt.adaptive) return fail("radau_iia: Newton iteration did not converge");
-      ++report.rejected;
-      rejectedLast = true;
-      h *= newton.stepFactor;
-      if (!freshJacobian && !simplified) needJacobian = true;
-      continue;
-    }
-
-    const double error = w.estimateError(t, h, first || rejectedLast, report, statistics_);
-
-    // Step size proposal: safety factor smaller when Newton needed many iterations.
-    const int kmax = opt.maxNewtonIterations;
-    const double safety =
-        std::min(opt.safety, opt.safety * (2 * kmax + 1) / (2.0 * kmax + newton.iterations));
-    double quotient =
-        std::clamp(std::pow(error, 0.25) / safety, 1.0 / opt.maxGrowth, opt.maxShrink);
-    double proposal = h / quotient;
-
-    if (opt.adaptive && error >= 1.0) {
-      ++report.rejected;
-      rejectedLast = true;
-      h = first ? 0.1 * h : proposal;
-      continue;
-    }
-
-    // Accept.
-    if (!w.y1.allFinite()) return fail("radau_iia: non-finite state");
-    ++report.substeps;
-    maxError = std::max(maxError, error);
-    t = last && opt.adaptive ? tEnd : t + h;
-    w.y0 = w.y1;
-    if (!w.derivative(t, w.y0, w.F0, statistics_)) return fail("radau_iia: non-finite force");
-    w.lastZ = w.Z;
-    w.lastStep = h;
-    w.hasHistory = true;
-    freshJacobian = false;
-    needJacobian = newton.theta > kThetaReuse;
-    if (!first) {
-      // Predictive controller: use the error ratio of the last two accepted steps.
-      const double predictive =
-          std::clamp(w.acceptedStep / h * std::pow(error * error / w.acceptedError, 0.25) /
-                         opt.safety,
-                     1.0 / opt.maxGrowth, opt.maxShrink);
-      quotient = std::max(quotient, predictive);
-      proposal = h / quotient;
-    }
-    w.acceptedStep = h;
-    w.acceptedError = std::max(1e-2, error);
-    if (rejectedLast) proposal = std::min(proposal, h);
-    if (simplified && newton.theta > kThetaReuse) {
-      // Without the force terms the Newton contraction grows like h^2: cap the growth so the
-      // next step still contracts by about kSimplifiedTheta.
-      proposal = std::min(proposal, h * std::sqrt(kSimplifiedTheta / newton.theta));
-    }
-    if (last && h < planned) proposal = std::max(proposal, planned);
-    // Keep h (and the factorization) for small increases when the Jacobian stays.
-    const double growth = proposal / h;
-    if (!needJacobian && growth >= 1.0 && growth <= 1.2 && !last) proposal = h;
-    if (opt.adaptive) h = proposal;
-    first = false;
-    rejectedLast = false;
+    if (!w.simplified) ++statistics_.factorizations;
   }
 
-  system.state.x = w.y0.head(n);
-  system.state.v = w.y0.tail(n);
-  system.state.t = tEnd;
-  system.prescribe(tEnd, system.state.x, system.state.v);
-  w.lastEnd.resize(2 * n);
+  w.startingValues(t, h);
+  const NewtonOutcome newton = w.newton(t, h, options_.maxNewtonIterations, report, statistics_);
+  report.newtonIterations += newton.iterations;
+  if (!newton.converged) {
+    // A Jacobian from an earlier step may be what failed: evaluate it again.
+    if (!w.freshJacobian && !w.simplified) w.needJacobian = true;
+    out.status = StepStatus::kNotConverged;
+    out.retryFactor = newton.stepFactor;
+    out.failure = "radau_iia: Newton iteration did not converge";
+    return out;
+  }
+  out.measure.error = w.estimateError(t, h, step.fresh || step.afterRejection, report,
+                                      statistics_);
+  out.measure.iterations = newton.iterations;
+  w.theta = newton.theta;
+  out.measure.sameStepIsCheap = !(newton.theta > kThetaReuse);
+  if (w.simplified && newton.theta > kThetaReuse) {
+    // Without the force terms the Newton contraction grows like h^2: cap the growth so the
+    // next step still contracts by about kSimplifiedTheta.
+    out.measure.nextStepCap = h * std::sqrt(kSimplifiedTheta / newton.theta);
+  }
+  return out;
+}
+
+std::string RadauIIA::accept(System& system, const StepContext& step) {
+  Workspace& w = *work_;
+  if (!w.y1.allFinite()) return "radau_iia: non-finite state";
+  w.y0 = w.y1;
+  if (!w.derivative(step.end, w.y0, w.F0, statistics_)) return "radau_iia: non-finite force";
+  w.lastZ = w.Z;
+  w.lastStep = step.h;
+  w.hasHistory = true;
+  w.freshJacobian = false;
+  w.needJacobian = w.theta > kThetaReuse;
+  system.state.x = w.y0.head(w.n);
+  system.state.v = w.y0.tail(w.n);
+  system.state.t = step.end;
+  return "";
+}
+
+// The constrained DOFs take their prescribed values exactly at the frame's end; inside the
+// frame the stages carry them.
+void RadauIIA::abandonFrame(const System&) { work_->hasHistory = false; }
+
+void RadauIIA::endFrame(System& system) {
+  Workspace& w = *work_;
+  system.prescribe(system.state.t, system.state.x, system.state.v);
+  w.lastEnd.resize(2 * w.n);
   w.lastEnd << system.state.x, system.state.v;
-  w.lastTime = tEnd;
-  w.nextStep = h;
-  report.errorEstimate = maxError;
-  report.lastStep = w.lastStep;
-  return finish();
+  w.lastTime = system.state.t;
 }
 
 }  // namespace tt

@@ -107,12 +107,12 @@ TEST(ForceThreshold, SceneKey) {
   Scene plain = loadScene(writeScene("  type: newtonian\n  time_step: 0.0001\n"));
   auto* a = dynamic_cast<NewtonianIntegrator*>(&unguarded(*plain.integrator));
   ASSERT_NE(a, nullptr);
-  EXPECT_EQ(a->params.forceThreshold, 0.0);
+  EXPECT_EQ(a->params().forceThreshold, 0.0);
 
   Scene on = loadScene(writeScene("  type: newtonian\n  force_threshold: 0.002\n"));
   auto* b = dynamic_cast<NewtonianIntegrator*>(&unguarded(*on.integrator));
   ASSERT_NE(b, nullptr);
-  EXPECT_EQ(b->params.forceThreshold, 0.002);
+  EXPECT_EQ(b->params().forceThreshold, 0.002);
 
   try {
     loadScene(writeScene("  type: newtonian\n  force_threshold: -1\n"));

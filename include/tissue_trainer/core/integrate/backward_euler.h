@@ -19,13 +19,13 @@
 // (Eigen) from the same initial guess, and the event is counted in diagnostics().
 #include <Eigen/Core>
 
-#include "tissue_trainer/core/integrate/integrator.h"
+#include "tissue_trainer/core/integrate/stepped_integrator.h"
 #include "tissue_trainer/core/solve/krylov.h"
 
 namespace tt {
 
 struct BackwardEulerParams {
-  int substeps = 1;               // equal substeps per frame
+  int substeps = 1;               // equal substeps per frame (read when constructed)
   double linearTolerance = 1e-8;  // relative residual |b - A dv| / |b|
   int linearMaxIterations = 500;
   int newtonIterations = 1;       // 1: the seed's linearised step; > 1: full Newton
@@ -42,19 +42,22 @@ struct BackwardEulerDiagnostics {
   double lastRelativeResidual = 0.0;  // |b - A dv| / |b| reached by the last linear solve
 };
 
-class BackwardEulerIntegrator : public Integrator {
+class BackwardEulerIntegrator : public SteppedIntegrator {
  public:
-  explicit BackwardEulerIntegrator(BackwardEulerParams params = {}) : params(params) {}
+  explicit BackwardEulerIntegrator(BackwardEulerParams params = {});
   const char* name() const override { return "backward_euler"; }
   bool needsStiffness() const override { return true; }
-  StepReport advance(System& system, double frameTime) override;
 
   const BackwardEulerDiagnostics& diagnostics() const { return diagnostics_; }
 
   BackwardEulerParams params;
 
  private:
-  bool substep(System& system, double h, double endTime, StepReport& report);
+  FrameStart beginFrame(System& system, double frameTime) override;
+  // One linearised step (and Newton corrections): dv_ for the state at step.end.
+  StepAttempt attempt(System& system, const StepContext& step, StepReport& report) override;
+  std::string accept(System& system, const StepContext& step) override;
+  void abandonFrame(const System&) override { dv_.setZero(); }
   // A = M + h c - h^2 K - h D at (x, v): c the per-DOF damping, D the models' df/dv (damping
   // and friction forces are implicit). The caller applies the constraints.
   void buildMatrix(const System& system, double h, const Eigen::VectorXd& x,

@@ -1,14 +1,14 @@
 #pragma once
-// The explicit Euler method of seed 001 (section 2.5.2, Eqs 2.129-2.130):
+// The explicit Euler method of the Adamss thesis chapter (Sec. 2.5.2, Eqs 2.129-2.130):
 //   v+ = v + h M^-1 f(x, v),   x+ = x + h v
 // Both updates use the old values, so this is the classical forward Euler method (not the
 // symplectic one): on an undamped oscillator it multiplies the energy by exactly
-// 1 + (h omega)^2 every step and is unstable for every h > 0 (the growth the seed's
-// Fig 2.20 shows). The option symplectic uses x+ = x + h v+ instead (semi-implicit or
-// symplectic Euler), which is stable for h < 2 / omega_max without damping.
+// 1 + (h omega)^2 every step and is unstable for every h > 0 (the growth of the chapter's
+// Fig 2.20). The option symplectic uses x+ = x + h v+ instead (semi-implicit or symplectic
+// Euler), which is stable for h < 2 / omega_max without damping.
 #include <Eigen/Core>
 
-#include "tissue_trainer/core/integrate/integrator.h"
+#include "tissue_trainer/core/integrate/stepped_integrator.h"
 
 namespace tt {
 
@@ -17,18 +17,21 @@ struct ExplicitEulerParams {
   bool symplectic = false; // position update with the new velocity
 };
 
-class ExplicitEulerIntegrator : public Integrator {
+class ExplicitEulerIntegrator : public SteppedIntegrator {
  public:
-  explicit ExplicitEulerIntegrator(ExplicitEulerParams params = {}) : params(params) {}
+  explicit ExplicitEulerIntegrator(ExplicitEulerParams params = {});
   const char* name() const override {
-    return params.symplectic ? "symplectic_euler" : "explicit_euler";
+    return params_.symplectic ? "symplectic_euler" : "explicit_euler";
   }
-  StepReport advance(System& system, double frameTime) override;
-
-  ExplicitEulerParams params;
+  const ExplicitEulerParams& params() const { return params_; }
 
  private:
-  Eigen::VectorXd force_;
+  FrameStart beginFrame(System&, double) override { return {}; }
+  StepAttempt attempt(System& system, const StepContext& step, StepReport& report) override;
+  std::string accept(System& system, const StepContext& step) override;
+
+  ExplicitEulerParams params_;
+  Eigen::VectorXd force_, x1_, v1_;
 };
 
 }  // namespace tt

@@ -40,6 +40,7 @@ class Integrator {
  protected:
   // A set step length as the integrator is to take it now (shortened by the divisor).
   double currentStep(double setLength) const { return setLength / stepDivisor_; }
+  int stepDivisor() const { return stepDivisor_; }
 
  private:
   int stepDivisor_ = 1;

@@ -32,7 +32,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "tissue_trainer/core/integrate/integrator.h"
+#include "tissue_trainer/core/integrate/stepped_integrator.h"
 
 namespace tt {
 
@@ -42,11 +42,11 @@ struct NewtonianParams {
   double forceThreshold = 0.0;    // N; > 0: nodes with a smaller net force are not propagated
 };
 
-class NewtonianIntegrator : public Integrator {
+class NewtonianIntegrator : public SteppedIntegrator {
  public:
-  explicit NewtonianIntegrator(NewtonianParams params = {}) : params(params) {}
+  explicit NewtonianIntegrator(NewtonianParams params = {});
   const char* name() const override { return "newtonian"; }
-  StepReport advance(System& system, double frameTime) override;
+  const NewtonianParams& params() const { return params_; }
 
   // Forgets the previous position: the next step starts from the state's x and v.
   void restart() { hasHistory_ = false; }
@@ -54,22 +54,29 @@ class NewtonianIntegrator : public Integrator {
   // Node-steps skipped by the force threshold since construction (free nodes only).
   long frozenNodeSteps() const { return frozenNodeSteps_; }
 
-  NewtonianParams params;
-
  private:
+  FrameStart beginFrame(System& system, double frameTime) override;
+  StepAttempt attempt(System& system, const StepContext& step, StepReport& report) override;
+  std::string accept(System& system, const StepContext& step) override;
+  void endFrame(System& system) override { last_ = system.state; }
+  void abandonFrame(const System& system) override;
+  std::string instabilityHint() const override { return "; explicit limit h < 2/omega_max"; }
+
   bool continuesFrom(const State& s) const;
   void start(const System& system, double h);
-  void substep(System& system, double h, double endTime);
   // Lists the free nodes under the force threshold in frozen_ and keeps their position in
   // nextX_ (their velocity is zeroed after the update).
   void freezeLowForceNodes(const System& system);
 
+  NewtonianParams params_;
   bool hasHistory_ = false;
   Eigen::VectorXd previousX_;  // position one step back
   double previousStep_ = 0.0;
   long frozenNodeSteps_ = 0;
   State last_;                 // the state this integrator left behind
-  Eigen::VectorXd force_, nextX_;
+  Eigen::VectorXd startPrevious_;  // previousX_ at the start of the frame
+  double startStep_ = 0.0;
+  Eigen::VectorXd force_, nextX_, nextV_;
   std::vector<int> frozen_;
 };
 

@@ -11,7 +11,7 @@
 #include <Eigen/Core>
 #include <memory>
 
-#include "tissue_trainer/core/integrate/integrator.h"
+#include "tissue_trainer/core/integrate/stepped_integrator.h"
 
 namespace tt {
 
@@ -50,7 +50,8 @@ struct RadauOptions {
   double maxStep = 1e30;     // s
   double minStep = 1e-14;    // s; smaller steps fail the frame
   int maxNewtonIterations = 7;
-  int maxStepsPerFrame = 100000;
+  int maxStepsPerFrame = 100000;  // step attempts
+  // The step-size controller (ErrorStepControl, step_control.h):
   double safety = 0.9;       // step size safety factor
   double maxGrowth = 8.0;    // h_new <= maxGrowth * h
   double maxShrink = 5.0;    // h_new >= h / maxShrink
@@ -63,7 +64,7 @@ struct RadauStatistics {
   long linearSolves = 0;
 };
 
-class RadauIIA : public Integrator {
+class RadauIIA : public SteppedIntegrator {
  public:
   explicit RadauIIA(RadauOptions options = {});
   ~RadauIIA() override;
@@ -71,11 +72,10 @@ class RadauIIA : public Integrator {
   const char* name() const override { return "radau_iia"; }
   bool needsStiffness() const override { return options_.jacobian == RadauJacobian::kAnalytical; }
 
-  // Integrates over frameTime. The report's errorEstimate is the largest weighted RMS norm of
-  // the local error estimate over the accepted substeps (1 = exactly at tolerance);
-  // linearIterations counts linear solves (each a real or complex 3n x 3n LU solve);
-  // rejected counts steps rejected by the error test and by Newton failure.
-  StepReport advance(System& system, double frameTime) override;
+  // advance() integrates over frameTime. The report's errorEstimate is the largest weighted
+  // RMS norm of the local error estimate over the accepted substeps (1 = exactly at
+  // tolerance); linearIterations counts linear solves (each a real or complex 3n x 3n LU
+  // solve); rejected counts steps rejected by the error test and by Newton failure.
 
   const RadauOptions& options() const { return options_; }
   const RadauStatistics& statistics() const { return statistics_; }
@@ -86,6 +86,12 @@ class RadauIIA : public Integrator {
 
  private:
   struct Workspace;
+  FrameStart beginFrame(System& system, double frameTime) override;
+  StepAttempt attempt(System& system, const StepContext& step, StepReport& report) override;
+  std::string accept(System& system, const StepContext& step) override;
+  void endFrame(System& system) override;
+  void abandonFrame(const System&) override;
+
   RadauOptions options_;
   RadauStatistics statistics_;
   std::unique_ptr<Workspace> work_;
