@@ -108,7 +108,7 @@ struct RadauIIA::Workspace {
   Eigen::VectorXd xs, vs, fs, f0;
 
   // Jacobian: K = df/dx and D = df/dv in column-major pattern form.
-  SparseMatrix rowMajor;
+  SparseMatrix rowMajor, velocityRowMajor;
   std::vector<int> rowToCol;        // value index map RowMajor -> ColMajor
   RealMatrix K, D;
   std::vector<int> diagonal;        // value index of (j, j) in column-major
@@ -179,6 +179,7 @@ void RadauIIA::Workspace::setup(const System& sys, RadauJacobian mode) {
     return;
   }
   rowMajor = sys.pattern.zeroMatrix();
+  velocityRowMajor = rowMajor;
   nnz = rowMajor.nonZeros();
   // Carry value indices through the storage-order conversion to map one onto the other.
   SparseMatrix indexed = rowMajor;
@@ -270,6 +271,11 @@ void RadauIIA::Workspace::jacobian(const Eigen::VectorXd& y, RadauJacobian mode,
     for (long k = 0; k < nnz; ++k) K.valuePtr()[rowToCol[k]] = rowMajor.valuePtr()[k];
     D.coeffs().setZero();
     for (int j = 0; j < n; ++j) D.valuePtr()[diagonal[j]] = -system->damping[j];
+    if (system->hasVelocityJacobian()) {  // the models' own damping and friction
+      vs = y.tail(n);
+      system->assembleVelocityJacobian(xs, vs, velocityRowMajor);
+      for (long k = 0; k < nnz; ++k) D.valuePtr()[rowToCol[k]] += velocityRowMajor.valuePtr()[k];
+    }
     return;
   }
   // Forward differences, one colour group at a time, in positions then velocities.

@@ -37,7 +37,8 @@ struct RadauTableau {
 enum class RadauJacobian {
   kSimplified,  // force derivatives omitted: J = [[0, I], [0, -M^-1 C]]
   kNumerical,   // finite differences of the force in positions and velocities
-  kAnalytical,  // System::assembleStiffness and the damping derivative -diag(c)
+  kAnalytical,  // System::assembleStiffness, and df/dv = -diag(c) plus the models' velocity
+                // Jacobians (System::assembleVelocityJacobian)
 };
 
 struct RadauOptions {
