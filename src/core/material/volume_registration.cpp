@@ -19,7 +19,8 @@ void registerVolumeLaw(Registry& registry) {
         k.stiffness = (*entry)["volume_stiffness"].positive() * unit;
         k.ratio = entry->positive("volume_ratio", 1.0);
         return k;
-      })});
+      }),
+      /*standalone=*/false});
 }
 
 }  // namespace tt

@@ -8,7 +8,7 @@ namespace tt {
 
 void registerHyperelasticModel(Registry& registry) {
   ForceModelEntry e;
-  e.name = "hyperelastic";
+  e.name = kLawModel;
   e.description = "any registered material law on the mesh's tets (1 point) and hexes "
                   "(trilinear, 2x2x2 Gauss points)";
   e.keys = {{"law", "the material law (see the laws listed below), required"},
@@ -18,8 +18,7 @@ void registerHyperelasticModel(Registry& registry) {
             {"psd_projection",
              "true: the stiffness and stiffness products use the law's tangent with negative "
              "eigenvalues removed (default false)"}};
-  e.presets = {{"hyperelastic_stvk", "{law: stvk}", "the stvk law, no options"},
-               {"hyperelastic_neo_hookean", "{law: neo_hookean}", "the neo_hookean law, no options"}};
+  // Each standalone law adds its preset hyperelastic_LAW when it registers (Registry::add).
   e.coversHexes = true;
   e.make = [](const YamlEntry& spec, const ModelContext& context) -> std::unique_ptr<ForceModel> {
     const LawEntry& law = tt::registry().law(spec["law"]);

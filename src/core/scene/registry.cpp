@@ -76,6 +76,20 @@ void Registry::add(LawEntry entry) {
   requireName("law", entry.name, static_cast<bool>(entry.makeHyperelastic));
   if (findLaw(entry.name)) throw std::logic_error("registry: law '" + entry.name + "' registered twice");
   requireDistinctKeys("law", entry.name, entry.materialKeys);
+  if (entry.standalone) {
+    auto model = std::find_if(models_.begin(), models_.end(),
+                              [](const ForceModelEntry& m) { return m.name == kLawModel; });
+    if (model == models_.end())
+      throw std::logic_error("registry: law '" + entry.name + "' registered before the " +
+                             std::string(kLawModel) + " model that builds it");
+    const std::string preset = std::string(kLawModel) + "_" + entry.name;
+    const std::vector<std::string> presets = presetNames();
+    if (std::count(presets.begin(), presets.end(), preset))
+      throw std::logic_error("registry: preset '" + preset + "' of law '" + entry.name +
+                             "' registered twice");
+    model->presets.push_back({preset, "{law: " + entry.name + "}",
+                              "the " + entry.name + " law, no options"});
+  }
   laws_.push_back(std::move(entry));
 }
 

@@ -3,6 +3,8 @@
 // known ones, in scenes and outside them.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -56,9 +58,10 @@ IntegratorEntry dummyIntegrator(const std::string& name) {
   return e;
 }
 
-LawEntry dummyLaw(const std::string& name) {
+LawEntry dummyLaw(const std::string& name, bool standalone = false) {
   LawEntry e;
   e.name = name;
+  e.standalone = standalone;
   e.makeHyperelastic = [](const ModelContext&, const LawOptions&) -> std::unique_ptr<ForceModel> {
     return nullptr;
   };
@@ -159,6 +162,27 @@ TEST(Registry, RepeatedNamesAndBrokenEntriesAreRejected) {
   EXPECT_NO_THROW(r.add(dummyLaw("spring")));
   EXPECT_EQ(r.forceModelNames(), "spring, other");
   EXPECT_EQ(r.lawNames(), "rubber, spring");
+}
+
+// A standalone law gives the law model its preset; adding a law takes no edit elsewhere.
+TEST(Registry, AStandaloneLawAddsItsPresetToTheLawModel) {
+  Registry r;
+  EXPECT_THROW(r.add(dummyLaw("early", true)), std::logic_error) << "before the law model";
+  r.add(dummyModel(kLawModel));
+  r.add(dummyLaw("rubber", true));
+  r.add(dummyLaw("term", false));
+  ASSERT_EQ(r.forceModels().size(), 1u);
+  ASSERT_EQ(r.forceModels()[0].presets.size(), 1u);
+  EXPECT_EQ(r.forceModels()[0].presets[0].name, std::string(kLawModel) + "_rubber");
+  EXPECT_EQ(r.forceModels()[0].presets[0].options, "{law: rubber}");
+  EXPECT_EQ(r.presetNames(), std::vector<std::string>{std::string(kLawModel) + "_rubber"});
+  const Registry& builtIn = registry();
+  for (const LawEntry& law : builtIn.laws()) {
+    const std::vector<std::string> names = builtIn.presetNames();
+    EXPECT_EQ(std::count(names.begin(), names.end(), std::string(kLawModel) + "_" + law.name),
+              law.standalone ? 1 : 0)
+        << law.name;
+  }
 }
 
 TEST(Registry, TheBuiltInRegistryHasNoDuplicates) {

@@ -89,7 +89,13 @@ struct LawEntry {
   std::string description;
   std::vector<KeyDoc> materialKeys;    // the law's own keys in a `materials` entry
   LawModelFactory makeHyperelastic;
+  // True: the law alone is a tissue model, and the registry gives the model kLawModel the
+  // preset kLawModel_NAME = {law: NAME}. False for a term meant to add to another (volume).
+  bool standalone = true;
 };
+
+// The element model over the laws ("hyperelastic"); it must be registered before the laws.
+constexpr const char* kLawModel = "hyperelastic";
 
 using IntegratorFactory = std::function<std::unique_ptr<Integrator>(const YamlEntry& spec)>;
 
