@@ -26,7 +26,10 @@ if(TARGET bench_bullet_peer)
     ${TT_BULLET64_COLLISION} ${TT_BULLET64_MATH})
 endif()
 
-# bench_scene_parts times the instrument contact query of the simulation node (Bullet).
-if(TARGET bench_scene_parts)
-  target_link_libraries(bench_scene_parts tissue_trainer_contact)
-endif()
+# bench_scene_parts times the instrument contact query of the simulation node (Bullet);
+# bench_implicit_step steps the liver with the tool pressed in.
+foreach(tool bench_scene_parts bench_implicit_step)
+  if(TARGET ${tool})
+    target_link_libraries(${tool} tissue_trainer_contact)
+  endif()
+endforeach()

@@ -16,6 +16,8 @@ TT_PACKAGES=(
   ros-std-msgs ros-geometry-msgs ros-sensor-msgs ros-visualization-msgs
   ros-std-srvs libstd-srvs-dev ros-diagnostic-msgs libdiagnostic-msgs-dev
   libbullet-dev libosmesa6-dev libpng-dev libeigen3-dev libyaml-cpp-dev libgtest-dev
+  # CHOLMOD, the sparse Cholesky factor of the implicit solver's preconditioner.
+  libsuitesparse-dev
   # The two-host test's network namespaces (ip netns, veth).
   iproute2
   # Python message modules, so that rostopic echo, rosbag and rospy read every topic.

@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 #include <atomic>
+#include <thread>
 
 #ifdef TT_HAVE_OPENMP
 #include <omp.h>
@@ -31,6 +32,8 @@ void setThreadCount(int threads) {
 }
 
 int threadCount() { return configuredThreads; }
+
+int hardwareThreads() { return std::max(1u, std::thread::hardware_concurrency()); }
 
 void parallelRanges(int parts, int count, RangeFunction body) {
   parts = std::max(parts, 1);

@@ -76,11 +76,11 @@ bool System::hasStiffness() const {
                      [](const auto& m) { return m->hasStiffness(); });
 }
 
-void System::assembleStiffness(const Eigen::VectorXd& x, SparseMatrix& K) const {
+void System::assembleStiffness(const Eigen::VectorXd& x, SparseMatrix& K, double scale) const {
   if (K.nonZeros() == 0) K = pattern.zeroMatrix();
   std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);
   for (const auto& model : models)
-    if (model->hasStiffness()) model->addStiffness(x, 1.0, pattern, K);
+    if (model->hasStiffness()) model->addStiffness(x, scale, pattern, K);
 }
 
 bool System::hasVelocityJacobian() const {

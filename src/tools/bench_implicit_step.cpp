@@ -1,38 +1,42 @@
-// Time per implicit step of backward_euler (linearised, Jacobi-PCG) with the anisotropic
-// edge_length model (fast path): stiffness assembly alone, then whole steps (force +
-// assembly + PCG), on one and two threads, at two PCG tolerances. Beside each time: the PCG
-// iterations and achieved relative residual of the step, and the step's error against the
-// same step solved tightly (PCG to 1e-13), max |x - x_ref| / max |x_ref - x_start|.
+// Time per implicit step at organ scale: the liver palpation scene (config/scenes/
+// liver_palpation.yaml: edge_length, gravity, mass damping, the top clamped) on TetGen quality
+// refinements of its liver (tetgen -rq1.4a<volume>: the same surface, more tets) of about 3k,
+// 10k, 50k and 100k tets, with a 6 mm sphere pressed 6 mm into the liver's anterior face
+// through the real contact (TissueContact, Bullet). Each row is one linear-solver set-up of
+// backward Euler (one linearised step, h = 10 ms): Jacobi-PCG, or CG preconditioned by a
+// Cholesky factor (CHOLMOD or Eigen's SimplicialLDLT) refactorised in the background when the
+// iterations pass refactor_iterations, on one or two threads, at a PCG tolerance.
 //
-// Meshes: a ~10k-tet box grid and a ~50k-tet liver meshed with TetGen from
-// config/meshes/liver-smooth.obj (converted to .smesh in a temporary folder) when `tetgen` is
-// on the PATH, else a ~50k-tet box grid (the table says which). Liver: clamped on its lowest
-// 15% in z, pulled by gravity; grid: clamped at x = 0. Step h = 10 ms (100 Hz: real time
-// needs step ms <= 10).
-//   bench_implicit_step [steps=9]
+// For every timed step: the wall time of the step (force, assembly, solve) and of the contact
+// query before it, the PCG iterations, the achieved relative residual, and the step's error
+// against the same step solved to 1e-12 from the same state: max |x - x_ref| / max |x_ref -
+// x_start|. Each size starts from the same state (the tool pressed, 20 steps run). Also the
+// time of one factorisation of the system matrix at rest, per backend.
+//   bench_implicit_step [MAX_TETS=120000] [CSV]
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
+#include "tissue_trainer/core/contact/tissue_contact.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
-#include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/mesh/mesh_io.h"
-#include "tissue_trainer/core/model/edge_length.h"
-#include "tissue_trainer/core/model/gravity.h"
 #include "tissue_trainer/core/parallel.h"
+#include "tissue_trainer/core/scene/scene.h"
 
 namespace {
 
 using namespace tt;
 using Clock = std::chrono::steady_clock;
+using Preconditioning = BackwardEulerParams::Preconditioning;
 
-// The repository root: $TT_SOURCE_DIR, else where this file was compiled from.
 std::string sourceDir() {
   if (const char* env = std::getenv("TT_SOURCE_DIR")) return env;
   const std::string file = __FILE__;
@@ -43,185 +47,262 @@ double seconds(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-double median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5))];
 }
 
-// OBJ (coordinates times `toMetres`) -> TetGen .smesh (m) -> tetgen -pq1.4a<vol> -> Mesh,
-// aiming at `targetTets`.
-bool tetgenLiver(const std::string& obj, double toMetres, int targetTets, Mesh& mesh,
-                 std::string& note) {
-  if (std::system("command -v tetgen > /dev/null 2>&1") != 0) {
-    note = "tetgen not found";
-    return false;
+const std::string kWork = "/tmp/tt_bench_implicit_step";
+
+// liver.msh refined by TetGen to about `target` tets (the volume bound adjusted by the count
+// it gives); "" when tetgen is missing or fails.
+std::string refinedLiver(int target, int& tets) {
+  if (std::system("command -v tetgen > /dev/null 2>&1") != 0) return "";
+  const std::string dir = kWork + "/liver_" + std::to_string(target);
+  if (std::system(("mkdir -p " + dir).c_str()) != 0) return "";
+  writeMesh(dir + "/liver.node", readMesh(sourceDir() + "/config/meshes/liver.msh"));
+  // liver.msh: 596 tets in about 270 file units^3 (the scene scales it by 0.025).
+  double volume = 0.45 * 270.0 / target;
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    char cmd[256];
+    std::snprintf(cmd, sizeof cmd, "cd %s && tetgen -rq1.4a%.6gQ liver > tetgen.log 2>&1",
+                  dir.c_str(), volume);
+    if (std::system(cmd) != 0) return "";
+    tets = readMesh(dir + "/liver.1.ele").numTets();
+    const double ratio = static_cast<double>(tets) / target;
+    if (ratio > 0.85 && ratio < 1.15) break;
+    volume *= ratio;
   }
-  const SurfaceMesh surface = readObj(sourceDir() + "/config/meshes/" + obj);
-  const std::string dir = "/tmp/tt_bench_liver";
-  if (std::system(("mkdir -p " + dir).c_str()) != 0) return false;
-  {
-    std::ofstream out(dir + "/liver.smesh");
-    out.precision(17);
-    out << surface.vertices.cols() << " 3 0 0\n";
-    for (Eigen::Index i = 0; i < surface.vertices.cols(); ++i)
-      out << i << ' ' << toMetres * surface.vertices(0, i) << ' ' << toMetres * surface.vertices(1, i)
-          << ' ' << toMetres * surface.vertices(2, i) << '\n';
-    out << surface.triangles.size() << " 0\n";
-    for (const Triangle& t : surface.triangles) out << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
-    out << "0\n0\n";
-  }
-  // Enclosed volume of the closed surface (divergence theorem), for the volume constraint.
-  double volume = 0.0;
-  for (const Triangle& t : surface.triangles)
-    volume += toMetres * toMetres * toMetres * surface.vertices.col(t[0]).dot(
-        surface.vertices.col(t[1]).cross(surface.vertices.col(t[2]))) / 6.0;
-  volume = std::abs(volume);
-  double maxVolume = 1.25 * volume / targetTets;  // quality refinement adds tets
-  for (int attempt = 0; attempt < 3; ++attempt) {
-    char cmd[512];
-    std::snprintf(cmd, sizeof cmd, "cd %s && tetgen -pq1.4a%.6eQ liver.smesh > tetgen.log 2>&1",
-                  dir.c_str(), maxVolume);
-    if (std::system(cmd) != 0) {
-      note = "tetgen failed on " + obj + " (see " + dir + "/tetgen.log)";
-      return false;
-    }
-    mesh = readMesh(dir + "/liver.1.ele");
-    const double ratio = static_cast<double>(mesh.numTets()) / targetTets;
-    if (ratio > 0.9 && ratio < 1.1) break;
-    maxVolume *= ratio;
-  }
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "TetGen -pq1.4a%.2e from %s (%.0f cm^3)", maxVolume,
-                obj.c_str(), volume * 1e6);
-  note = buf;
-  return true;
+  return dir + "/liver.1.ele";
 }
 
-struct Scenario {
-  std::string name, note;
-  Mesh mesh;
+// The palpation scene with another mesh of the same liver.
+std::string sceneWithMesh(const std::string& mesh) {
+  std::ifstream in(sourceDir() + "/config/scenes/liver_palpation.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string scene = text.str();
+  const auto replace = [&scene](const std::string& from, const std::string& to) {
+    const size_t at = scene.find(from);
+    if (at != std::string::npos) scene.replace(at, from.size(), to);
+  };
+  replace("file: ../meshes/liver.msh", "file: " + mesh);
+  replace("file: ../meshes/liver-smooth.obj", "file: " + sourceDir() + "/config/meshes/liver-smooth.obj");
+  const std::string path = mesh + ".yaml";
+  std::ofstream(path) << scene;
+  return path;
+}
+
+// The tool: a sphere pressed `depth` into the highest surface point within 2 cm (in x, y) of
+// the trocar axis (x, y) = (-0.035, 0.075), from above as the scripted operator does.
+Eigen::Isometry3d pressingPose(const System& system, double radius, double depth) {
+  Eigen::Vector3d top(-0.035, 0.075, -1e9);
+  for (int a = 0; a < system.numNodes(); ++a) {
+    const Eigen::Vector3d p = system.state.x.segment<3>(3 * a);
+    if (std::hypot(p.x() + 0.035, p.y() - 0.075) < 0.02 && p.z() > top.z()) top = p;
+  }
+  return Eigen::Isometry3d(Eigen::Translation3d(top + Eigen::Vector3d(0, 0, radius - depth)));
+}
+
+struct Setup {
+  const char* label;
+  Preconditioning preconditioner;
+  CholeskyBackend backend;
+  int threads;
+  double tolerance;
 };
 
-// Nodes with coordinate `axis` below min + fraction * extent are clamped.
-void clampLow(Mesh& mesh, int axis, double fraction) {
-  mesh.fillDefaults();
-  const double lo = mesh.rest.row(axis).minCoeff(), hi = mesh.rest.row(axis).maxCoeff();
-  for (int a = 0; a < mesh.numNodes(); ++a)
-    if (mesh.rest(axis, a) <= lo + fraction * (hi - lo)) mesh.nodeTags[a] = kFixedAll;
-}
-
-std::unique_ptr<System> buildSystem(const Mesh& mesh) {
-  // Liver-like transversely isotropic tissue, fibres along each tet's frame column 0.
-  auto system = std::make_unique<System>(
-      mesh, std::vector<Material>{Material::transverselyIsotropic(5e3, 0.4, 1.5e4, 0.4, 1060.0)});
-  system->models.push_back(std::make_unique<EdgeLengthModel>(system->mesh, system->materials));
-  system->models.push_back(std::make_unique<GravityModel>(system->mass, Eigen::Vector3d(0, 0, -9.81)));
-  system->damping = 2.0 * system->mass;  // light mass-proportional damping, 1/s
-  return system;
-}
-
-struct Row {
-  double assemblyMs = 0, stepMs = 0, residual = 0, error = 0;
-  int iterations = 0;
+struct Result {
+  std::vector<double> stepMs, contactMs, iterations, residuals, errors;
+  int factorizations = 0, refused = 0, failed = 0;
 };
 
-Row measure(const Mesh& mesh, int threads, double tolerance, int steps) {
-  setThreadCount(threads);
-  auto system = buildSystem(mesh);
-  const double h = 0.01;
-  Row row;
-  {  // assembly alone
-    SparseMatrix K;
-    system->assembleStiffness(system->state.x, K);
-    std::vector<double> times;
-    for (int r = 0; r < 5; ++r) {
-      const auto t0 = Clock::now();
-      system->assembleStiffness(system->state.x, K);
-      times.push_back(seconds(t0));
+class Bench {
+ public:
+  Bench(const std::string& scenePath, int steps) : scenePath_(scenePath), steps_(steps) {}
+
+  // Loads the scene, presses the tool and runs 20 steps: the start of every row.
+  void prepare() {
+    Scene scene = loadScene(scenePath_);
+    auto contact = makeContact(scene);
+    BackwardEulerIntegrator settle(tightParams());
+    for (int s = 0; s < 20; ++s) {
+      contact->update();
+      settle.advance(scene.system, kStep);
     }
-    row.assemblyMs = 1e3 * median(times);
+    start_ = scene.system.state;
+    tets_ = scene.system.mesh.numTets();
+    dofs_ = scene.system.numDofs();
+    inContact_ = contact->result().points.size();
   }
-  BackwardEulerParams params;
-  params.linearTolerance = tolerance;
-  params.linearMaxIterations = 2000;
-  BackwardEulerIntegrator integrator(params);
-  BackwardEulerParams tight = params;
-  tight.linearTolerance = 1e-13;
-  tight.linearMaxIterations = 20000;
-  tight.warmStart = false;
-  // Two steps to get the tissue moving (and warm the PCG start), then the timed steps.
-  for (int s = 0; s < 2; ++s) integrator.advance(*system, h);
-  std::vector<double> times, errors, residuals, iterations;
-  for (int s = 0; s < steps; ++s) {
-    const State start = system->state;
-    // The reference: the same step from the same state, solved tightly.
-    BackwardEulerIntegrator reference(tight);
-    reference.advance(*system, h);
-    const Eigen::VectorXd xRef = system->state.x;
-    system->state = start;
+
+  Result run(const Setup& setup) {
+    setThreadCount(setup.threads);
+    Scene scene = loadScene(scenePath_);
+    scene.system.state = start_;
+    auto contact = makeContact(scene);
+    BackwardEulerParams params;
+    params.linearTolerance = setup.tolerance;
+    params.linearMaxIterations = 5000;
+    params.preconditioner = setup.preconditioner;
+    params.choleskyBackend = setup.backend;
+    BackwardEulerIntegrator integrator(params);
+    BackwardEulerIntegrator reference(tightParams());
+    Result r;
+    for (int s = 0; s < steps_ + kUntimed; ++s) {
+      auto t0 = Clock::now();
+      contact->update();
+      const double contactMs = 1e3 * seconds(t0);
+      const State before = scene.system.state;
+      reference.advance(scene.system, kStep);
+      const Eigen::VectorXd xRef = scene.system.state.x;
+      scene.system.state = before;
+      t0 = Clock::now();
+      const StepReport report = integrator.advance(scene.system, kStep);
+      const double stepMs = 1e3 * seconds(t0);
+      if (!report.ok) ++r.failed;
+      if (s < kUntimed) continue;  // the first factorisation and warm-up
+      r.stepMs.push_back(stepMs);
+      r.contactMs.push_back(contactMs);
+      r.iterations.push_back(report.linearIterations);
+      r.residuals.push_back(integrator.diagnostics().lastRelativeResidual);
+      r.errors.push_back((scene.system.state.x - xRef).lpNorm<Eigen::Infinity>() /
+                         (xRef - before.x).lpNorm<Eigen::Infinity>());
+    }
+    r.factorizations = integrator.diagnostics().factorizations;
+    r.refused = integrator.diagnostics().notPositiveDefinite;
+    setThreadCount(1);
+    return r;
+  }
+
+  // One factorisation of the step's matrix M + h c - h^2 K at the start state (ms).
+  double factorMs(CholeskyBackend backend) {
+    Scene scene = loadScene(scenePath_);
+    System& system = scene.system;
+    auto contact = makeContact(scene);
+    system.state = start_;
+    contact->update();
+    SparseMatrix A;
+    system.assembleStiffness(system.state.x, A);
+    A *= -kStep * kStep;
+    for (int dof = 0; dof < system.numDofs(); ++dof)
+      A.coeffRef(dof, dof) += system.mass[dof] + kStep * system.damping[dof];
+    system.constrainMatrix(A);
+    CholeskyPreconditioner factor(false, backend);
     const auto t0 = Clock::now();
-    const StepReport report = integrator.advance(*system, h);
-    times.push_back(seconds(t0));
-    if (!report.ok) std::printf("  step failed: %s\n", report.failure.c_str());
-    errors.push_back((system->state.x - xRef).lpNorm<Eigen::Infinity>() /
-                     (xRef - start.x).lpNorm<Eigen::Infinity>());
-    residuals.push_back(integrator.diagnostics().lastRelativeResidual);
-    iterations.push_back(report.linearIterations);
+    const bool ok = factor.factorNow(A);
+    const double ms = 1e3 * seconds(t0);
+    return ok ? ms : NAN;
   }
-  row.stepMs = 1e3 * median(times);
-  row.error = median(errors);
-  row.residual = median(residuals);
-  row.iterations = static_cast<int>(median(iterations));
-  setThreadCount(1);
-  return row;
-}
+
+  int tets() const { return tets_; }
+  int dofs() const { return dofs_; }
+  size_t contactPoints() const { return inContact_; }
+
+ private:
+  static constexpr double kStep = 0.01;
+  static constexpr int kUntimed = 3;
+
+  static BackwardEulerParams tightParams() {
+    BackwardEulerParams p;
+    p.linearTolerance = 1e-12;
+    p.linearMaxIterations = 20000;
+    p.preconditioner = Preconditioning::kCholesky;
+    p.backgroundRefactor = false;
+    p.refactorIterations = 30;
+    return p;
+  }
+
+  std::unique_ptr<TissueContact> makeContact(Scene& scene) const {
+    ToolShape sphere;
+    sphere.type = ToolShape::Type::kSphere;
+    sphere.radius = 0.006;
+    sphere.link = "tip";
+    auto contact = std::make_unique<TissueContact>(scene.system, *scene.contact,
+                                                   std::vector<ToolShape>{sphere});
+    const Eigen::Isometry3d pose = pressingPose(scene.system, sphere.radius, 0.006);
+    contact->setTool(pose, {pose}, 1.0, scene.system.state.t);
+    return contact;
+  }
+
+  std::string scenePath_;
+  int steps_;
+  State start_;
+  int tets_ = 0, dofs_ = 0;
+  size_t inContact_ = 0;
+};
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int steps = argc > 1 ? std::max(1, std::atoi(argv[1])) : 9;
-  std::vector<Scenario> scenarios;
-  {
-    Scenario grid{"box grid 13^3 nodes", "6 tets/hex, 10 cm cube, clamped at x = 0",
-                  boxGrid(13, 13, 13, Eigen::Vector3d(0.1, 0.1, 0.1), TetSplit::kSixMirrored)};
-    clampLow(grid.mesh, 0, 0.0);
-    scenarios.push_back(std::move(grid));
+  const int maxTets = argc > 1 ? std::atoi(argv[1]) : 120000;
+  FILE* csv = argc > 2 ? std::fopen(argv[2], "w") : nullptr;
+  if (argc > 2 && !csv) {
+    std::fprintf(stderr, "bench_implicit_step: cannot write %s\n", argv[2]);
+    return 2;
   }
-  {
-    Scenario liver;
-    // liver-smooth.obj (cm) is the liver of the scenes; TetGen rejects it when its surface
-    // self-intersects (tetgen -d), then liver2.obj (units taken as dm: 21 cm across) is used.
-    std::string firstNote;
-    const bool meshed = tetgenLiver("liver-smooth.obj", 0.01, 50000, liver.mesh, firstNote) ||
-                        tetgenLiver("liver2.obj", 0.1, 50000, liver.mesh, liver.note);
-    if (meshed && liver.note.empty()) liver.note = firstNote;
-    else if (meshed) liver.note = firstNote + "; " + liver.note;
-    else liver.note = firstNote + "; " + liver.note;
-    if (meshed) {
-      liver.name = "liver (TetGen)";
-      clampLow(liver.mesh, 2, 0.15);
-    } else {
-      liver.name = "box grid 21x21x22 nodes";
-      liver.note = "FALLBACK, " + liver.note + ": box grid of the liver's size";
-      liver.mesh = boxGrid(21, 21, 22, Eigen::Vector3d(0.2, 0.2, 0.21), TetSplit::kSixMirrored);
-      clampLow(liver.mesh, 0, 0.0);
+  if (csv)
+    std::fprintf(csv, "tets,dofs,setup,preconditioner,backend,threads,tolerance,steps,step_ms_p50,"
+                      "step_ms_p99,step_ms_max,contact_ms_p50,cg_iterations_p50,cg_iterations_max,"
+                      "residual_p50,factorizations,refused,failed,error_p50,error_max\n");
+  std::printf("bench_implicit_step: liver_palpation.yaml on TetGen refinements of its liver, a 6 mm "
+              "sphere pressed 6 mm in; backward_euler h = 10 ms; %d hardware threads; CHOLMOD "
+              "and Eigen SimplicialLDLT\n", hardwareThreads());
+  const auto cholmod = CholeskyBackend::kCholmod, simplicial = CholeskyBackend::kEigenSimplicial;
+  const auto jacobi = Preconditioning::kJacobi, cholesky = Preconditioning::kCholesky;
+  const std::vector<Setup> setups = {
+      {"jacobi, scene default", jacobi, cholmod, 1, 1e-8},
+      {"jacobi", jacobi, cholmod, 1, 1e-4},
+      {"cholesky", cholesky, cholmod, 1, 1e-8},
+      {"cholesky", cholesky, cholmod, 1, 1e-6},
+      {"cholesky", cholesky, cholmod, 1, 1e-4},
+      {"cholesky", cholesky, cholmod, 1, 1e-3},
+      {"cholesky", cholesky, cholmod, 2, 1e-4},
+      {"cholesky", cholesky, simplicial, 1, 1e-4},
+  };
+  for (const int target : {3000, 10000, 50000, 100000}) {
+    if (target > maxTets) break;
+    int tets = 0;
+    const std::string mesh = refinedLiver(target, tets);
+    if (mesh.empty()) {
+      std::printf("\nno TetGen refinement for %d tets (tetgen missing or failed; see %s)\n",
+                  target, kWork.c_str());
+      continue;
     }
-    scenarios.push_back(std::move(liver));
+    const int steps = target <= 10000 ? 60 : target <= 50000 ? 20 : 10;
+    Bench bench(sceneWithMesh(mesh), steps);
+    bench.prepare();
+    std::printf("\nliver %d tets, %d DOFs, %zu contact points, %d timed steps per row; one "
+                "factorisation: CHOLMOD %.0f ms, SimplicialLDLT %.0f ms\n",
+                bench.tets(), bench.dofs(), bench.contactPoints(), steps,
+                bench.factorMs(cholmod), bench.factorMs(simplicial));
+    std::printf("  %-22s %-14s %3s %7s %8s %8s %8s %8s %6s %6s %9s %4s %9s %9s\n", "setup",
+                "backend", "thr", "tol", "p50 ms", "p99 ms", "max ms", "contact", "its", "max",
+                "residual", "fact", "error p50", "error max");
+    for (const Setup& setup : setups) {
+      if (setup.preconditioner == jacobi && setup.tolerance < 1e-6 && target > 50000) continue;
+      const Result r = bench.run(setup);
+      const char* backend = setup.preconditioner == jacobi ? "-" : backendName(setup.backend);
+      std::printf("  %-22s %-14s %3d %7.0e %8.2f %8.2f %8.2f %8.2f %6.0f %6.0f %9.1e %4d %9.1e "
+                  "%9.1e%s\n", setup.label, backend, setup.threads, setup.tolerance,
+                  quantile(r.stepMs, 0.5), quantile(r.stepMs, 0.99), quantile(r.stepMs, 1.0),
+                  quantile(r.contactMs, 0.5), quantile(r.iterations, 0.5),
+                  quantile(r.iterations, 1.0), quantile(r.residuals, 0.5), r.factorizations,
+                  quantile(r.errors, 0.5), quantile(r.errors, 1.0),
+                  r.failed ? (" FAILED " + std::to_string(r.failed)).c_str() : "");
+      std::fflush(stdout);
+      if (csv)
+        std::fprintf(csv, "%d,%d,%s,%s,%s,%d,%g,%zu,%.4f,%.4f,%.4f,%.4f,%.0f,%.0f,%.3e,%d,%d,%d,"
+                          "%.3e,%.3e\n", bench.tets(), bench.dofs(), setup.label,
+                     setup.preconditioner == jacobi ? "jacobi" : "cholesky", backend,
+                     setup.threads, setup.tolerance, r.stepMs.size(), quantile(r.stepMs, 0.5),
+                     quantile(r.stepMs, 0.99), quantile(r.stepMs, 1.0),
+                     quantile(r.contactMs, 0.5), quantile(r.iterations, 0.5),
+                     quantile(r.iterations, 1.0), quantile(r.residuals, 0.5), r.factorizations,
+                     r.refused, r.failed, quantile(r.errors, 0.5), quantile(r.errors, 1.0));
+    }
   }
-  std::printf("bench_implicit_step: backward_euler (1 linearised step, Jacobi-PCG), edge_length "
-              "fast + gravity, h = 10 ms, median of %d steps\n", steps);
-  for (const Scenario& s : scenarios) {
-    std::printf("\n%s: %d tets, %d nodes, %ld constrained DOFs; %s\n", s.name.c_str(),
-                s.mesh.numTets(), s.mesh.numNodes(), 3L * std::count(s.mesh.nodeTags.begin(), s.mesh.nodeTags.end(), kFixedAll),
-                s.note.c_str());
-    std::printf("  %7s %9s %11s %9s %10s %10s %12s\n", "threads", "PCG tol", "assembly ms",
-                "PCG its", "residual", "step ms", "error/ref");
-    for (double tol : {1e-4, 1e-8})
-      for (int threads : {1, 2}) {
-        const Row r = measure(s.mesh, threads, tol, steps);
-        std::printf("  %7d %9.0e %11.2f %9d %10.2e %10.2f %12.2e\n", threads, tol, r.assemblyMs,
-                    r.iterations, r.residual, r.stepMs, r.error);
-      }
-  }
+  if (csv) std::fclose(csv);
   return 0;
 }

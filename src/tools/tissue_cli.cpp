@@ -16,6 +16,7 @@
 #include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/mesh/mesh_io.h"
 #include "tissue_trainer/core/mesh/quality.h"
+#include "tissue_trainer/core/parallel.h"
 #include "tissue_trainer/core/scene/registry.h"
 #include "tissue_trainer/core/scene/scene.h"
 #include "tissue_trainer/core/scene/scene_runner.h"
@@ -28,7 +29,8 @@ const char* const kUsage =
     "usage:\n"
     "  tissue_cli info MESH\n"
     "  tissue_cli convert IN OUT            (OUT: .vtu, .msh (Gmsh v2), .vtk, .node/.ele (TetGen))\n"
-    "  tissue_cli run SCENE.yaml [--duration T] [--out DIR]\n"
+    "  tissue_cli run SCENE.yaml [--duration T] [--out DIR] [--threads N]\n"
+    "                                       (N: threads of the element loops, default: the cores)\n"
     "  tissue_cli forces --mesh MESH --deformed POSITIONS --model NAME --lambda L --mu M\n"
     "                    [--lambda-l LL --mu-l ML --fiber X Y Z] [--stiffness-times DIR]\n"
     "  tissue_cli forces --scene SCENE.yaml --deformed POSITIONS [--stiffness-times DIR]\n"
@@ -103,6 +105,14 @@ int convert(const Arguments& args) {
   return kOk;
 }
 
+int threadCount(const Arguments& args) {
+  const double n = args.number("threads");
+  if (n < 1 || n > tt::kMaxThreads || n != std::floor(n))
+    throw UsageError("--threads expects a whole number in [1, " + std::to_string(tt::kMaxThreads) +
+                     "], got '" + args.text("threads") + "'");
+  return static_cast<int>(n);
+}
+
 int run(const Arguments& args) {
   if (args.positional.size() != 1) throw UsageError("run expects one SCENE.yaml");
   tt::Scene scene = tt::loadScene(args.positional[0]);
@@ -112,6 +122,7 @@ int run(const Arguments& args) {
     if (options.duration <= 0.0) throw UsageError("--duration expects a positive time");
   }
   if (args.has("out")) options.outDir = args.text("out");
+  tt::setThreadCount(args.has("threads") ? threadCount(args) : tt::hardwareThreads());
   for (const auto& note : scene.notes) std::cout << "note " << note << "\n";
   const tt::System& s = scene.system;
   std::cout << "scene " << scene.name << ": " << s.numNodes() << " nodes, " << s.mesh.numTets()
@@ -315,7 +326,7 @@ int main(int argc, char** argv) {
   try {
     if (command == "info") return info(Arguments(argc, argv, 2, {}));
     if (command == "convert") return convert(Arguments(argc, argv, 2, {}));
-    if (command == "run") return run(Arguments(argc, argv, 2, {{"duration", 1}, {"out", 1}}));
+    if (command == "run") return run(Arguments(argc, argv, 2, {{"duration", 1}, {"out", 1}, {"threads", 1}}));
     if (command == "forces")
       return forces(Arguments(argc, argv, 2,
                               {{"mesh", 1}, {"deformed", 1}, {"model", 1}, {"lambda", 1},

@@ -18,6 +18,8 @@ constexpr int kMaxThreads = 64;
 // Sets the number of threads of the per-element loops (clamped to [1, kMaxThreads]).
 void setThreadCount(int threads);
 int threadCount();
+// The hardware threads of this machine (at least 1).
+int hardwareThreads();
 
 // A non-owning reference to a callable void(int part, int begin, int end): no allocation,
 // one indirect call per range (never per element).

@@ -19,22 +19,19 @@ double freeNorm(const System& system, Eigen::VectorXd r) {
 
 void BackwardEulerIntegrator::buildMatrix(const System& system, double h,
                                           const Eigen::VectorXd& x, const Eigen::VectorXd& v) {
-  if (A_.rows() != K_.rows() || A_.nonZeros() != K_.nonZeros()) {
-    A_ = K_;
+  system.assembleStiffness(x, A_, -h * h);  // in place: no copy of K
+  if (diagonal_.size() != static_cast<size_t>(A_.rows())) {
     diagonal_.assign(A_.rows(), -1);
     for (int row = 0; row < A_.outerSize(); ++row)
       for (SparseMatrix::InnerIterator it(A_, row); it; ++it)
         if (it.col() == row) diagonal_[row] = static_cast<int>(&it.valueRef() - A_.valuePtr());
   }
-  const double* k = K_.valuePtr();
   double* a = A_.valuePtr();
-  const double scale = -h * h;
-  for (Eigen::Index i = 0; i < K_.nonZeros(); ++i) a[i] = scale * k[i];
   for (int row = 0; row < A_.rows(); ++row)
     a[diagonal_[row]] += system.mass[row] + h * system.damping[row];
   if (!system.hasVelocityJacobian()) return;
   system.assembleVelocityJacobian(x, v, C_);
-  const double* c = C_.valuePtr();  // the same pattern as K
+  const double* c = C_.valuePtr();  // the same pattern as A
   for (Eigen::Index i = 0; i < C_.nonZeros(); ++i) a[i] -= h * c[i];
 }
 
@@ -56,31 +53,75 @@ int BackwardEulerIntegrator::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x)
   return iterations;
 }
 
-// Jacobi-preconditioned CG (A is symmetric positive definite unless the stiffness has
-// turned indefinite); where CG meets non-positive curvature, BiCGSTAB from the same guess.
-int BackwardEulerIntegrator::solveUnit(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+namespace {
+
+// A refused factorisation is not retried for this many solves (a matrix that was not positive
+// definite rarely is so at the next step).
+constexpr int kRefactorRetrySolves = 10;
+
+}  // namespace
+
+const Preconditioner& BackwardEulerIntegrator::choosePreconditioner() {
   diagonalValues_.resize(A_.rows());
   for (int row = 0; row < A_.rows(); ++row) diagonalValues_[row] = A_.valuePtr()[diagonal_[row]];
   jacobi_.setDiagonal(diagonalValues_);
+  if (params.preconditioner != BackwardEulerParams::Preconditioning::kCholesky) return jacobi_;
+  if (!cholesky_) {
+    cholesky_ = std::make_unique<CholeskyPreconditioner>(params.backgroundRefactor,
+                                                         params.choleskyBackend);
+    solvesSinceRefusal_ = kRefactorRetrySolves;
+  }
+  if (!cholesky_->ready() && !cholesky_->busy() && solvesSinceRefusal_ >= kRefactorRetrySolves)
+    cholesky_->factorNow(A_);
+  noteRefusals();
+  if (cholesky_->ready()) return *cholesky_;
+  ++diagnostics_.jacobiFallbacks;
+  return jacobi_;
+}
+
+void BackwardEulerIntegrator::noteRefusals() {
+  if (cholesky_->notPositiveDefinite() > refusalsSeen_) solvesSinceRefusal_ = 0;
+  refusalsSeen_ = cholesky_->notPositiveDefinite();
+  diagnostics_.notPositiveDefinite = refusalsSeen_;
+  diagnostics_.factorizations = cholesky_->factorizations();
+}
+
+void BackwardEulerIntegrator::considerRefactor(int iterations, bool lostCurvature) {
+  if (!cholesky_) return;
+  ++solvesSinceRefusal_;
+  const bool slow = iterations > params.refactorIterations || lostCurvature;
+  if (slow && !cholesky_->busy() && solvesSinceRefusal_ >= kRefactorRetrySolves)
+    cholesky_->refactor(A_);
+  noteRefusals();
+}
+
+// Preconditioned CG (A is symmetric positive definite unless the stiffness has turned
+// indefinite); where CG meets non-positive curvature, BiCGSTAB from the same guess.
+int BackwardEulerIntegrator::solveUnit(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  const Preconditioner& M = choosePreconditioner();
   const SolveSettings settings{params.linearTolerance, params.linearMaxIterations, 30};
   const MatrixOperator A(A_);
   guess_ = x;
   SolveReport report;
-  if (jacobi_.positive()) {
-    report = conjugateGradients(A, b, x, jacobi_, settings, krylov_);
-    diagnostics_.lastRelativeResidual = report.relativeResidual;
-    if (report.outcome != SolveOutcome::kNonPositiveCurvature) {
-      if (!report.converged()) ++diagnostics_.unconvergedLinear;
-      return report.iterations;
-    }
+  const bool cgApplies = &M != &jacobi_ || jacobi_.positive();
+  if (cgApplies) {
+    report = conjugateGradients(A, b, x, M, settings, krylov_);
+    if (report.outcome != SolveOutcome::kNonPositiveCurvature) return finishSolve(report, 0, false);
   }
   ++diagnostics_.nonPositiveCurvature;
   const int cgIterations = report.iterations;
   x = guess_;
-  report = biCgStab(A, b, x, jacobi_, settings, krylov_);
+  report = biCgStab(A, b, x, M, settings, krylov_);
+  return finishSolve(report, cgIterations, true);
+}
+
+int BackwardEulerIntegrator::finishSolve(const SolveReport& report, int earlierIterations,
+                                         bool lostCurvature) {
   if (!report.converged()) ++diagnostics_.unconvergedLinear;
   diagnostics_.lastRelativeResidual = report.relativeResidual;
-  return cgIterations + report.iterations;
+  diagnostics_.lastIterations = earlierIterations + report.iterations;
+  considerRefactor(diagnostics_.lastIterations, lostCurvature);
+  return diagnostics_.lastIterations;
 }
 
 BackwardEulerIntegrator::BackwardEulerIntegrator(BackwardEulerParams params)
@@ -103,12 +144,12 @@ StepAttempt BackwardEulerIntegrator::attempt(System& system, const StepContext& 
     out.failure = std::move(why);
     return out;
   };
+  if (cholesky_) cholesky_->update();  // a factor finished in the background takes over here
   const State& s = system.state;
   const double h = step.h, endTime = step.end;
   const int linearBefore = report.linearIterations;
   const Eigen::Index n = s.x.size();
   system.computeForce(s.x, s.v, f_);
-  system.assembleStiffness(s.x, K_);
   ++report.jacobians;
   buildMatrix(system, h, s.x, s.v);
 
@@ -120,8 +161,12 @@ StepAttempt BackwardEulerIntegrator::attempt(System& system, const StepContext& 
   for (int dof : system.constrainedDofs)
     constrainedDv_[dof] = (targetX_[dof] - s.x[dof]) / h - s.v[dof];
 
-  rhs_ = h * (f_ + h * (K_ * s.v));
-  if (!system.constrainedDofs.empty()) rhs_ -= A_ * constrainedDv_;
+  // h (f + h K v), with h^2 K v = (M + h c - h D) v - A v read off the unconstrained A.
+  rhs_.noalias() = A_ * s.v;
+  rhs_ = h * f_ + (system.mass + h * system.damping).cwiseProduct(s.v) - rhs_;
+  if (system.hasVelocityJacobian()) rhs_.noalias() -= h * (C_ * s.v);
+  // Only moving constrained DOFs (controlled nodes) couple into the free ones.
+  if (constrainedDv_.lpNorm<Eigen::Infinity>() > 0.0) rhs_.noalias() -= A_ * constrainedDv_;
   for (int dof : system.constrainedDofs) rhs_[dof] = constrainedDv_[dof];
   if (!rhs_.allFinite() || !Eigen::Map<const Eigen::VectorXd>(A_.valuePtr(), A_.nonZeros())
                                .allFinite()) {
@@ -158,7 +203,6 @@ StepAttempt BackwardEulerIntegrator::attempt(System& system, const StepContext& 
                           std::to_string(s.t));
       }
       if (solves >= params.newtonIterations) break;
-      system.assembleStiffness(x1_, K_);
       ++report.jacobians;
       buildMatrix(system, h, x1_, v1_);
       system.constrainMatrix(A_);

@@ -74,7 +74,7 @@ StabilityGuard::StabilityGuard(std::unique_ptr<Integrator> inner, StabilityGuard
     : inner_(std::move(inner)), params_(params) {}
 
 StepReport StabilityGuard::advance(System& system, double frameTime) {
-  const auto clock = std::chrono::steady_clock::now();
+  frameClock_ = std::chrono::steady_clock::now();
   prepare(system);
   StepReport report;
   report.guarded = true;
@@ -97,11 +97,13 @@ StepReport StabilityGuard::advance(System& system, double frameTime) {
         break;
       }
       system.state = frameStart_;
-      report.guardReason = problem;
-      if (depth >= params_.maxHalvings) {
-        report.failure = "stability guard: " + problem + ", still failing after " +
+      if (!stoppedForBudget_) report.guardReason = problem;
+      const std::string spent = budgetSpent();
+      if (depth >= params_.maxHalvings || !spent.empty()) {
+        report.failure = "stability guard: " + report.guardReason + ", still failing after " +
                          std::to_string(depth) + " halvings (steps of 1/" +
-                         std::to_string(1 << depth) + "); state restored";
+                         std::to_string(1 << depth) + ")" + (spent.empty() ? "" : "; " + spent) +
+                         "; state restored";
         report.ok = false;
         // The restored state is where frameBalance_ was measured: the next frame continues
         // from it, carried sum included, which forgets a little even so.
@@ -115,7 +117,7 @@ StepReport StabilityGuard::advance(System& system, double frameTime) {
     inner_->setStepDivisor(1);
   }
   report.wallSeconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - frameClock_).count();
   stats_.add(report);
   return report;
 }
@@ -175,6 +177,7 @@ std::string StabilityGuard::attempt(System& system, double frameTime, int depth,
   const int pieces = 1 << depth;
   inner_->setStepDivisor(pieces);
   flows_ = {};
+  stoppedForBudget_ = false;
   const double t0 = frameStart_.t;
   for (int i = 0; i < pieces; ++i) {
     const double start = system.state.t;
@@ -189,8 +192,21 @@ std::string StabilityGuard::attempt(System& system, double frameTime, int depth,
     std::string problem = step.ok ? check(system, step.lastStep) : "integrator failed: " + step.failure;
     if (!problem.empty())
       return problem + format(" in t = [%.9g, %.9g] s", start, end);
+    if (depth > 0 && i + 1 < pieces && !budgetSpent().empty()) {
+      stoppedForBudget_ = true;
+      return format("stopped for the budget at t = %.9g s", end);
+    }
   }
   return {};
+}
+
+std::string StabilityGuard::budgetSpent() const {
+  if (params_.wallBudget <= 0.0) return {};
+  const double used =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - frameClock_).count();
+  if (used < params_.wallBudget) return {};
+  return format("the frame's wall-time budget of %.3g ms is spent (%.3g ms)",
+                1e3 * params_.wallBudget, 1e3 * used);
 }
 
 std::string StabilityGuard::check(const System& system, double lastStep) {

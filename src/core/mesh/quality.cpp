@@ -171,13 +171,42 @@ MeshQuality meshQuality(const Mesh& mesh, const QualityOptions& options) {
   const double tol = options.duplicateTolerance > 0.0 ? options.duplicateTolerance : 1e-9 * diagonal;
   q.duplicateNodes = countDuplicates(mesh.rest, tol);
 
-  std::vector<char> used(static_cast<std::size_t>(q.nodes), 0);
+  q.unusedNodes = static_cast<int>(unusedNodes(mesh).size());
+  return q;
+}
+
+std::vector<int> unusedNodes(const Mesh& mesh) {
+  std::vector<char> used(static_cast<std::size_t>(mesh.numNodes()), 0);
   for (const Tet& t : mesh.tets)
     for (int v : t) used[v] = 1;
   for (const Hex& h : mesh.hexes)
     for (int v : h) used[v] = 1;
-  q.unusedNodes = static_cast<int>(std::count(used.begin(), used.end(), 0));
-  return q;
+  std::vector<int> unused;
+  for (int node = 0; node < mesh.numNodes(); ++node)
+    if (!used[node]) unused.push_back(node);
+  return unused;
+}
+
+std::vector<int> flatTets(const Mesh& mesh) {
+  std::vector<int> flat;
+  for (int t = 0; t < mesh.numTets(); ++t)
+    if (!(tetNormalisedVolume(mesh.rest, mesh.tets[t]) >= kFlatTetVolume)) flat.push_back(t);
+  return flat;
+}
+
+void removeTets(Mesh& mesh, const std::vector<int>& tets) {
+  std::vector<char> removed(mesh.tets.size(), 0);
+  for (int t : tets) removed[t] = 1;
+  const auto keep = [&removed](auto& perTet) {
+    if (perTet.size() != removed.size()) return;  // absent (filled in later by defaults)
+    std::size_t kept = 0;
+    for (std::size_t t = 0; t < perTet.size(); ++t)
+      if (!removed[t]) perTet[kept++] = perTet[t];
+    perTet.resize(kept);
+  };
+  keep(mesh.fibreFrame);
+  keep(mesh.material);
+  keep(mesh.tets);
 }
 
 std::string formatQuality(const MeshQuality& q) {

@@ -4,12 +4,15 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/mesh/mesh_io.h"
+#include "tissue_trainer/core/mesh/quality.h"
 #include "tissue_trainer/core/model/gravity.h"
 #include "tissue_trainer/core/scene/registry.h"
 #include "tissue_trainer/core/scene/yaml_reader.h"
@@ -96,11 +99,42 @@ Placement readPlacement(const YamlEntry& spec) {
   return p;
 }
 
+std::string describeTet(const Mesh& mesh, int t) {
+  const Tet& tet = mesh.tets[t];
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "tet %d (nodes %d %d %d %d, normalised volume %.3g)", t, tet[0],
+                tet[1], tet[2], tet[3], tetNormalisedVolume(mesh.rest, tet));
+  return buf;
+}
+
+// A flat tet fails the scene, or is dropped with a note when mesh.drop_degenerate says so.
+void handleFlatTets(const YamlEntry& spec, Mesh& mesh, std::vector<std::string>& notes) {
+  const std::vector<int> flat = flatTets(mesh);
+  if (flat.empty()) return;
+  char limit[32];
+  std::snprintf(limit, sizeof limit, "%g", kFlatTetVolume);
+  const std::string what = std::to_string(flat.size()) + " flat tet(s) (normalised volume below " +
+                           limit + "), the first " + describeTet(mesh, flat.front());
+  if (!spec.boolean("drop_degenerate", false))
+    spec.fail("a mesh without flat tets: " + what +
+              "; remesh it (TetGen -q) or set drop_degenerate: true");
+  const std::vector<int> unusedBefore = unusedNodes(mesh);
+  removeTets(mesh, flat);
+  std::vector<int> orphans;
+  const std::vector<int> unusedAfter = unusedNodes(mesh);
+  std::set_difference(unusedAfter.begin(), unusedAfter.end(), unusedBefore.begin(),
+                      unusedBefore.end(), std::back_inserter(orphans));
+  if (!orphans.empty())
+    spec.fail("flat tets that can be dropped: " + what + "; without them node " +
+              std::to_string(orphans.front()) + " belongs to no element");
+  notes.push_back("dropped " + what);
+}
+
 Mesh loadMesh(const YamlEntry& spec, const fs::path& sceneDir, std::vector<std::string>& notes,
               Placement& placement) {
   Mesh mesh;
   if (spec.has("file")) {
-    spec.expectMap({"file", "length_unit", "scale", "translate", "rotate_deg"});
+    spec.expectMap({"file", "length_unit", "scale", "translate", "rotate_deg", "drop_degenerate"});
     const YamlEntry fileEntry = spec["file"];
     fs::path file = fileEntry.text();
     if (file.is_relative()) file = sceneDir / file;
@@ -120,6 +154,7 @@ Mesh loadMesh(const YamlEntry& spec, const fs::path& sceneDir, std::vector<std::
   for (Eigen::Matrix3d& frame : mesh.hexFibreFrame) frame = placement.rotation * frame;
   if (mesh.numTets() == 0 && mesh.numHexes() == 0)
     spec.fail("the mesh has no tetrahedra or hexahedra");
+  handleFlatTets(spec, mesh, notes);
   return mesh;
 }
 

@@ -12,7 +12,9 @@
 #include "tissue_trainer/TissueStatus.h"
 #include "tissue_trainer/TissueSurface.h"
 #include "tissue_trainer/core/error.h"
+#include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/model/strain.h"
+#include "tissue_trainer/core/parallel.h"
 #include "tissue_trainer/core/scene/scene_runner.h"
 #include "tissue_trainer/core/scene/state_snapshot.h"
 #include "urdf_tool.h"
@@ -48,7 +50,21 @@ bool SimulationNode::readParams() {
          readNumber(pnh_, "marker_rate", params_.markerRate, 0.0, true) &&
          readNumber(pnh_, "damage_strain", params_.damageStrain, 0.0, true) &&
          readString(pnh_, "world_frame", params_.worldFrame, false) &&
-         readString(pnh_, "tip_frame", params_.tipFrame, false) && readSnapshotParams();
+         readString(pnh_, "tip_frame", params_.tipFrame, false) &&
+         readNumber(pnh_, "guard_budget", params_.guardBudget, 0.0, false) &&
+         readSnapshotParams() && readThreads();
+}
+
+bool SimulationNode::readThreads() {
+  params_.threads = std::max(1, tt::hardwareThreads() - 1);
+  if (!readInteger(pnh_, "threads", params_.threads, 1)) return false;
+  if (params_.threads > tt::kMaxThreads) {
+    ROS_FATAL("parameter %s: expected at most %d threads, got %d",
+              pnh_.resolveName("threads").c_str(), tt::kMaxThreads, params_.threads);
+    return false;
+  }
+  tt::setThreadCount(params_.threads);
+  return true;
 }
 
 bool SimulationNode::readSnapshotParams() {
@@ -141,11 +157,11 @@ bool SimulationNode::start() {
   loadSrv_ = pnh_.advertiseService("load_scene", &SimulationNode::onLoadScene, this);
   stepTimer_ = nh_.createSteadyTimer(ros::WallDuration(1.0 / params_.rate), &SimulationNode::step, this);
   diagnosticsTimer_ = nh_.createSteadyTimer(ros::WallDuration(1.0), &SimulationNode::publishDiagnostics, this);
-  ROS_INFO("simulation: scene '%s' (%d nodes, %d tets, %s), %.0f Hz, %zu tool shapes; "
-           "snapshot every %.2f s to %s",
+  ROS_INFO("simulation: scene '%s' (%d nodes, %d tets, %s), %.0f Hz, %d thread(s), %zu tool "
+           "shapes; snapshot every %.2f s to %s",
            scene_.name.c_str(), scene_.system.numNodes(), scene_.system.mesh.numTets(),
-           scene_.contact ? "contact" : "no contact", params_.rate, toolShapes_.size(),
-           params_.snapshotPeriod, params_.snapshotPath.c_str());
+           scene_.contact ? "contact" : "no contact", params_.rate, tt::threadCount(),
+           toolShapes_.size(), params_.snapshotPeriod, params_.snapshotPath.c_str());
   return true;
 }
 
@@ -172,6 +188,9 @@ void SimulationNode::loadScene(const std::string& path) {
   scene_ = std::move(loaded);
   for (const std::string& note : scene_.notes) ROS_INFO("scene: %s", note.c_str());
   initialState_ = scene_.system.state;
+  // Real time: a frame the guard cannot make stable may take guard_budget periods, no more.
+  if (auto* guard = dynamic_cast<tt::StabilityGuard*>(scene_.integrator.get()))
+    guard->setWallBudget(params_.guardBudget / params_.rate);
   fingerprint_ = tt::sceneFingerprint(scene_.name, scene_.system.mesh);
   display_ = tt::DisplaySurface(scene_);
   trianglesChanged_ = true;

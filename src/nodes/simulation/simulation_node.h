@@ -38,6 +38,11 @@ struct SimulationParams {
   std::string snapshotPath;     // default: ROS_HOME (or ~/.ros)/simulation.snapshot
   double snapshotPeriod = 0.5;  // s
   std::string resume = "snapshot";
+  // Wall time the stability guard may spend on one frame, in step periods (0: no limit).
+  double guardBudget = 3.0;
+  // Threads of the physics' element loops; default: the cores, less one for the haptic loop
+  // that may share the host.
+  int threads = 0;
 };
 
 class SimulationNode {
@@ -49,6 +54,7 @@ class SimulationNode {
  private:
   bool readParams();
   bool readSnapshotParams();
+  bool readThreads();  // ~threads, then the core's thread count
   // Replaces the scene (and rebuilds the contact) or throws tt::InputError.
   void loadScene(const std::string& path);
   void buildContact();

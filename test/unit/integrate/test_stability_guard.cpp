@@ -5,12 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <thread>
 
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/integrate/explicit_euler.h"
@@ -284,6 +286,43 @@ TEST(StabilityGuard, NonFiniteStateIsCaughtEvenWhenTheIntegratorReportsSuccess) 
       << r.guardReason;
   EXPECT_TRUE(s->state.x.allFinite() && s->state.v.allFinite());
   EXPECT_NEAR(s->state.t, kFrame, 1e-15);
+}
+
+// Takes 4 ms of wall time per call and spoils the velocity of the step that ends the frame:
+// every attempt runs all its pieces and fails at the last.
+class SlowAndSpoilsTheFrameEnd : public Integrator {
+ public:
+  const char* name() const override { return "slow_and_spoils_the_frame_end"; }
+  StepReport advance(System& system, double frameTime) override {
+    std::this_thread::sleep_for(std::chrono::milliseconds(4));
+    system.state.t += frameTime;
+    if (system.state.t > kFrame * (1.0 - 1e-9)) system.state.v[0] = std::nan("");
+    return {};
+  }
+};
+
+TEST(StabilityGuard, AWallTimeBudgetEndsTheRetriesOfAFrameThatCannotBeMadeStable) {
+  auto s = stiffBlock();
+  const State start = s->state;
+  StabilityGuard unlimited(std::make_unique<SlowAndSpoilsTheFrameEnd>());
+  const StepReport all = unlimited.advance(*s, kFrame);
+  EXPECT_FALSE(all.ok);
+  EXPECT_EQ(all.halvings, 6);  // 1 + 2 + ... + 64 pieces of 4 ms: about 0.5 s
+  EXPECT_GT(all.wallSeconds, 0.4);
+
+  StabilityGuardParams p;
+  p.wallBudget = 3 * kFrame;  // three frame periods
+  StabilityGuard budgeted(std::make_unique<SlowAndSpoilsTheFrameEnd>(), p);
+  const StepReport r = budgeted.advance(*s, kFrame);
+  ASSERT_FALSE(r.ok);
+  EXPECT_LT(r.halvings, 6);
+  EXPECT_LT(r.wallSeconds, 0.25);  // the budget, one more 4 ms piece, and slack for a busy host
+  EXPECT_NE(r.failure.find("the frame's wall-time budget of 30 ms is spent"), std::string::npos)
+      << r.failure;
+  EXPECT_NE(r.guardReason.find("non-finite velocity at DOF 0"), std::string::npos) << r.guardReason;
+  EXPECT_EQ(s->state.x, start.x);  // the last good state is kept
+  EXPECT_EQ(s->state.v, start.v);
+  EXPECT_EQ(s->state.t, start.t);
 }
 
 TEST(StabilityGuard, NoHalvingsAllowedFailsAtOnceWithTheCheckAndRestores) {

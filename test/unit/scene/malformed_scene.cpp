@@ -128,6 +128,48 @@ TEST(MalformedScene, EachErrorNamesFileLineAndKey) {
   }
 }
 
+// TetGen files: three good tets and a flat one (tet 3, in the plane z = 0) whose nodes the
+// good tets share, or, with `orphan`, whose fourth node is its own.
+std::string writeFlatTetMesh(const std::string& name, bool orphan) {
+  const fs::path dir = fs::temp_directory_path() / "tt_scene_tests";
+  fs::create_directories(dir);
+  std::ofstream(dir / (name + ".node")) << "7 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n"
+                                           "4 1 1 0\n5 1 1 1\n6 0.4 0.4 0\n";
+  std::ofstream(dir / (name + ".ele")) << "4 4 0\n0 0 1 2 3\n1 1 4 2 3\n2 4 2 3 5\n3 0 1 2 "
+                                       << (orphan ? 6 : 4) << "\n";
+  return (dir / (name + ".ele")).string();
+}
+
+TEST(MalformedScene, AFlatTetIsNamedOrDroppedWhenTheSceneSaysSo) {
+  const std::string box = "generator: box\n  nodes: [3, 3, 3]\n  size: [0.02, 0.02, 0.02]";
+  const std::string shared = writeFlatTetMesh("flat_shared", false);
+  const std::string orphan = writeFlatTetMesh("flat_orphan", true);
+  const auto message = [](const std::string& text) -> std::string {
+    try {
+      loadScene(writeScene("flat.yaml", text));
+    } catch (const InputError& e) {
+      EXPECT_GT(e.line(), 0);
+      return e.what();
+    }
+    return "";
+  };
+  const std::string refused = message(edited(box, "file: " + shared));
+  EXPECT_NE(refused.find("1 flat tet(s)"), std::string::npos) << refused;
+  EXPECT_NE(refused.find("tet 3 (nodes 0 1 2 4, normalised volume 0)"), std::string::npos) << refused;
+  EXPECT_NE(refused.find("drop_degenerate: true"), std::string::npos) << refused;
+  EXPECT_EQ(refused.find('\n'), std::string::npos) << refused;
+
+  const Scene dropped = loadScene(writeScene("flat.yaml", edited(box, "file: " + shared + "\n  drop_degenerate: true")));
+  EXPECT_EQ(dropped.system.mesh.numTets(), 3);
+  EXPECT_EQ(dropped.system.mesh.material.size(), 3u);
+  bool noted = false;
+  for (const std::string& note : dropped.notes) noted = noted || note.find("dropped 1 flat tet") != std::string::npos;
+  EXPECT_TRUE(noted);
+
+  const std::string orphaned = message(edited(box, "file: " + orphan + "\n  drop_degenerate: true"));
+  EXPECT_NE(orphaned.find("node 6 belongs to no element"), std::string::npos) << orphaned;
+}
+
 TEST(MalformedScene, MissingSceneFileIsOneClearError) {
   try {
     loadScene("/nonexistent/scene.yaml");

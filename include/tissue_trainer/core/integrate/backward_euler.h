@@ -12,14 +12,23 @@
 // re-assembled at each iterate, until |R| <= newtonTolerance * |h (f + h K v)|. For a linear
 // force the first step already solves these equations, so both variants coincide.
 //
-// Linear solver: Jacobi-preconditioned conjugate gradients, warm-started from the previous
-// dv. M - h D - h^2 K is symmetric when the models are conservative but only positive
-// definite when -K is positive semi-definite "enough"; when CG meets non-positive curvature
-// (or a non-positive diagonal), the solve is redone with Jacobi-preconditioned BiCGSTAB
-// (Eigen) from the same initial guess, and the event is counted in diagnostics().
+// Linear solver: preconditioned conjugate gradients, warm-started from the previous dv.
+// M - h D - h^2 K is symmetric when the models are conservative but only positive definite
+// when -K is positive semi-definite "enough"; when CG meets non-positive curvature (or a
+// non-positive diagonal), the solve is redone with BiCGSTAB and the same preconditioner from
+// the same initial guess, and the event is counted in diagnostics().
+//
+// Preconditioners: Jacobi, or the sparse Cholesky factor of an earlier system matrix
+// (solve/cholesky_preconditioner.h). The first step factors its own matrix; a solve that
+// needs more than refactorIterations iterations, or meets non-positive curvature, starts a
+// new factorisation of its matrix (on a thread of its own when backgroundRefactor), which
+// takes over at the start of a later step. A matrix that is not positive definite keeps the
+// old factor in use (Jacobi while there is none), and the next attempt waits
+// kRefactorRetrySolves solves.
 #include <Eigen/Core>
 
 #include "tissue_trainer/core/integrate/stepped_integrator.h"
+#include "tissue_trainer/core/solve/cholesky_preconditioner.h"
 #include "tissue_trainer/core/solve/krylov.h"
 
 namespace tt {
@@ -32,6 +41,11 @@ struct BackwardEulerParams {
   double newtonTolerance = 1e-6;  // relative residual of the implicit equations
   bool requireConvergence = false;  // Newton not converged: restore the frame, ok = false
   bool warmStart = true;
+  enum class Preconditioning { kJacobi, kCholesky };
+  Preconditioning preconditioner = Preconditioning::kJacobi;
+  int refactorIterations = 15;    // cholesky: a solve that needs more starts a new factor
+  bool backgroundRefactor = true;  // cholesky: factorise on a thread of its own
+  CholeskyBackend choleskyBackend = CholeskyBackend::kCholmod;
 };
 
 // Counts over the integrator's life (not per frame).
@@ -40,6 +54,10 @@ struct BackwardEulerDiagnostics {
   int unconvergedLinear = 0;     // solves that hit linearMaxIterations
   int unconvergedNewton = 0;     // steps whose Newton loop hit newtonIterations (> 1)
   double lastRelativeResidual = 0.0;  // |b - A dv| / |b| reached by the last linear solve
+  int lastIterations = 0;             // of the last linear solve
+  int factorizations = 0;             // Cholesky factors installed
+  int notPositiveDefinite = 0;        // matrices the Cholesky factorisation refused
+  int jacobiFallbacks = 0;            // solves preconditioned by Jacobi for want of a factor
 };
 
 class BackwardEulerIntegrator : public SteppedIntegrator {
@@ -58,20 +76,30 @@ class BackwardEulerIntegrator : public SteppedIntegrator {
   StepAttempt attempt(System& system, const StepContext& step, StepReport& report) override;
   std::string accept(System& system, const StepContext& step) override;
   void abandonFrame(const System&) override { dv_.setZero(); }
-  // A = M + h c - h^2 K - h D at (x, v): c the per-DOF damping, D the models' df/dv (damping
-  // and friction forces are implicit). The caller applies the constraints.
+  // A = M + h c - h^2 K - h D at (x, v), K assembled into A in place: c the per-DOF damping,
+  // D the models' df/dv (damping and friction forces are implicit). The caller applies the
+  // constraints.
   void buildMatrix(const System& system, double h, const Eigen::VectorXd& x,
                    const Eigen::VectorXd& v);
   // Solves A x = b (x holds the initial guess); returns the iterations used.
   int solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
   int solveUnit(const Eigen::VectorXd& b, Eigen::VectorXd& x);  // max |b_i| = 1
+  // The preconditioner for A_ in this solve (with Cholesky, a factor of A_ is made first if
+  // none is installed).
+  const Preconditioner& choosePreconditioner();
+  // After a solve of `iterations`: starts a new factor of A_ when the solve was slow.
+  void considerRefactor(int iterations, bool lostCurvature);
+  void noteRefusals();  // counts the factorisations refused since the last look
+  int finishSolve(const SolveReport& report, int earlierIterations, bool lostCurvature);
 
   BackwardEulerDiagnostics diagnostics_;
-  SparseMatrix K_, A_, C_;
+  SparseMatrix A_, C_;
   std::vector<int> diagonal_;  // offset of (i, i) in A_'s value array
   Eigen::VectorXd dv_, f_, rhs_, constrainedDv_, residual_, correction_;
   Eigen::VectorXd unitB_, guess_, diagonalValues_;
   JacobiPreconditioner jacobi_;
+  std::unique_ptr<CholeskyPreconditioner> cholesky_;  // with Preconditioning::kCholesky
+  int solvesSinceRefusal_, refusalsSeen_ = 0;
   KrylovWorkspace krylov_;
   Eigen::VectorXd x1_, v1_, targetX_, targetV_;
 };

@@ -45,10 +45,16 @@
 // times S: 10x at r = 0.1, 18x at 0.01. A frame that fails restores the state and keeps the
 // sum, which still forgets a little; a state changed from outside between frames restarts it.
 //
+// Real time: with a wall-clock budget per frame (wallBudget > 0; the simulation node gives it a
+// few frame periods) the guard starts no further attempt, and stops an attempt between its
+// pieces, once the frame has used the budget: the frame then fails as above (state restored),
+// so that a frame it cannot make stable costs the node a few periods, not seconds.
+//
 // When every check passes at once the wrapped integrator has advanced the frame exactly as it
 // would alone (bit-identical state); the guard only adds its measurements. After a rollback,
 // integrators with history between frames (newtonian) restart from the restored state.
 #include <Eigen/Core>
+#include <chrono>
 #include <memory>
 #include <string>
 #include <vector>
@@ -63,6 +69,7 @@ struct StabilityGuardParams {
   double energySlack = 1e-9;     // J
   double minVolumeRatio = 0.01;  // a tet at or below this fraction of its rest volume fails
   int relaxAfter = 25;           // frames passed at once before the step is doubled again
+  double wallBudget = 0.0;       // s of wall-clock time per frame for the retries; 0: none
 };
 
 // What a guard did, summed over frames (StabilityGuard::stats, or add() over the reports).
@@ -86,6 +93,7 @@ class StabilityGuard : public Integrator {
 
   Integrator& inner() { return *inner_; }
   const StabilityGuardParams& params() const { return params_; }
+  void setWallBudget(double seconds) { params_.wallBudget = seconds; }
   const GuardStats& stats() const { return stats_; }
 
  private:
@@ -117,6 +125,8 @@ class StabilityGuard : public Integrator {
   void startFrame(const System& system);
   // Advances the frame in 2^depth pieces; empty when every piece passed, else what was found.
   std::string attempt(System& system, double frameTime, int depth, StepReport& work);
+  // The budget's verdict: empty while wall time is left (or there is no budget).
+  std::string budgetSpent() const;
   std::string check(const System& system, double lastStep);
   std::string checkFinite(const State& s) const;
   std::string checkVolumes(const System& system) const;
@@ -148,6 +158,8 @@ class StabilityGuard : public Integrator {
   Flows flows_;
   Carried carried_, frame_;  // frame_: the current frame so far, as carried_ would add it
   double loadRate_ = 0.0;  // L = 1/2 sum f^2 / m of the body loads and external force (J/s^2)
+  std::chrono::steady_clock::time_point frameClock_;  // when this frame began
+  bool stoppedForBudget_ = false;  // the last attempt stopped between pieces for the budget
 };
 
 // The integrator a guard wraps, or `integrator` itself when it is not a guard.

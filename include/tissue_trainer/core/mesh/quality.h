@@ -2,6 +2,7 @@
 // Mesh quality report: counts, extent, element volumes and shape, inverted and degenerate
 // elements, duplicate and unused nodes. tissue_cli info prints formatQuality().
 #include <string>
+#include <vector>
 
 #include "tissue_trainer/core/mesh/mesh.h"
 
@@ -41,6 +42,15 @@ MeshQuality meshQuality(const Mesh& mesh, const QualityOptions& options = {});
 
 // A few readable lines (each ending in '\n') for `tissue_cli info`.
 std::string formatQuality(const MeshQuality& quality);
+
+// Tets flat to round-off: normalised volume below kFlatTetVolume. Such a tet has no mass and
+// a singular element matrix, so a scene refuses it (or drops it: mesh.drop_degenerate).
+constexpr double kFlatTetVolume = 1e-6;
+std::vector<int> flatTets(const Mesh& mesh);  // ascending indices
+// Removes the given tets (ascending indices) with their fibre frames and materials.
+void removeTets(Mesh& mesh, const std::vector<int>& tets);
+// Nodes that no tet or hex uses (ascending).
+std::vector<int> unusedNodes(const Mesh& mesh);
 
 // Swaps nodes 1 and 2 of every tet with negative rest volume; returns how many were swapped.
 // Fibre frames and materials are per element and stay attached to their tet.
