@@ -10,9 +10,11 @@
 // For every timed step: the wall time of the step (force, assembly, solve) and of the contact
 // query before it, the PCG iterations, the achieved relative residual, and the step's error
 // against the same step solved to 1e-12 from the same state: max |x - x_ref| / max |x_ref -
-// x_start|. Each size starts from the same state (the tool pressed, 20 steps run). Also the
+// x_start|. Each size starts from the same state (the liver at rest, then the tool pressed in
+// for 10 steps). Also the
 // time of one factorisation of the system matrix at rest, per backend.
-//   bench_implicit_step [MAX_TETS=120000] [CSV]
+//   bench_implicit_step [SIZES=3000,10000,50000,100000] [CSV|-] [ROWS]
+// SIZES: target tet counts; ROWS: the set-ups to run, as 1-based row numbers (default all).
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
@@ -22,6 +24,7 @@
 #include <fstream>
 #include <memory>
 #include <sstream>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -37,10 +40,10 @@ using namespace tt;
 using Clock = std::chrono::steady_clock;
 using Preconditioning = BackwardEulerParams::Preconditioning;
 
+// The repository root: $TT_SOURCE_DIR, else the one this tool was built from.
 std::string sourceDir() {
   if (const char* env = std::getenv("TT_SOURCE_DIR")) return env;
-  const std::string file = __FILE__;
-  return file.substr(0, file.rfind("/src/tools/"));
+  return TT_SOURCE_ROOT;
 }
 
 double seconds(Clock::time_point t0) {
@@ -62,9 +65,10 @@ std::string refinedLiver(int target, int& tets) {
   const std::string dir = kWork + "/liver_" + std::to_string(target);
   if (std::system(("mkdir -p " + dir).c_str()) != 0) return "";
   writeMesh(dir + "/liver.node", readMesh(sourceDir() + "/config/meshes/liver.msh"));
-  // liver.msh: 596 tets in about 270 file units^3 (the scene scales it by 0.025).
-  double volume = 0.45 * 270.0 / target;
-  for (int attempt = 0; attempt < 4; ++attempt) {
+  // The quality bound adds tets of its own: on liver.msh the count goes about as a^-0.6 with
+  // the volume bound a (file units; 51,349 tets at a = 0.003), so a scales by ratio^1.7.
+  double volume = 0.003 * std::pow(51349.0 / target, 1.7);
+  for (int attempt = 0; attempt < 5; ++attempt) {
     char cmd[256];
     std::snprintf(cmd, sizeof cmd, "cd %s && tetgen -rq1.4a%.6gQ liver > tetgen.log 2>&1",
                   dir.c_str(), volume);
@@ -72,7 +76,7 @@ std::string refinedLiver(int target, int& tets) {
     tets = readMesh(dir + "/liver.1.ele").numTets();
     const double ratio = static_cast<double>(tets) / target;
     if (ratio > 0.85 && ratio < 1.15) break;
-    volume *= ratio;
+    volume *= std::pow(ratio, 1.7);
   }
   return dir + "/liver.1.ele";
 }
@@ -111,6 +115,7 @@ struct Setup {
   CholeskyBackend backend;
   int threads;
   double tolerance;
+  int refactorIterations = 15;
 };
 
 struct Result {
@@ -122,12 +127,17 @@ class Bench {
  public:
   Bench(const std::string& scenePath, int steps) : scenePath_(scenePath), steps_(steps) {}
 
-  // Loads the scene, presses the tool and runs 20 steps: the start of every row.
+  // Loads the scene, lets the liver sag to rest under gravity (3 s in steps of 0.1 s; the
+  // mass damping of 2/s and backward Euler's own damping settle it), presses the tool and
+  // runs 10 steps: the start of every row, as a trainee finds the liver.
   void prepare() {
     Scene scene = loadScene(scenePath_);
-    auto contact = makeContact(scene);
     BackwardEulerIntegrator settle(tightParams());
-    for (int s = 0; s < 20; ++s) {
+    for (int s = 0; s < 30; ++s) settle.advance(scene.system, 0.1);
+    scene.system.state.v.setZero();
+    toolPose_ = pressingPose(scene.system, kToolRadius, 0.006);
+    auto contact = makeContact(scene);
+    for (int s = 0; s < 10; ++s) {
       contact->update();
       settle.advance(scene.system, kStep);
     }
@@ -147,6 +157,8 @@ class Bench {
     params.linearMaxIterations = 5000;
     params.preconditioner = setup.preconditioner;
     params.choleskyBackend = setup.backend;
+    params.refactorIterations = setup.refactorIterations;
+    if (std::getenv("TT_BENCH_SYNC")) params.backgroundRefactor = false;
     BackwardEulerIntegrator integrator(params);
     BackwardEulerIntegrator reference(tightParams());
     Result r;
@@ -162,6 +174,10 @@ class Bench {
       const StepReport report = integrator.advance(scene.system, kStep);
       const double stepMs = 1e3 * seconds(t0);
       if (!report.ok) ++r.failed;
+      if (std::getenv("TT_BENCH_TRACE"))
+        std::printf("    step %d: %.2f ms, %d its, %d factors, contact points %zu\n", s, stepMs,
+                    report.linearIterations, integrator.diagnostics().factorizations,
+                    contact->result().points.size());
       if (s < kUntimed) continue;  // the first factorisation and warm-up
       r.stepMs.push_back(stepMs);
       r.contactMs.push_back(contactMs);
@@ -189,11 +205,36 @@ class Bench {
     for (int dof = 0; dof < system.numDofs(); ++dof)
       A.coeffRef(dof, dof) += system.mass[dof] + kStep * system.damping[dof];
     system.constrainMatrix(A);
+    if (std::getenv("TT_BENCH_TRACE")) {
+      const SparseMatrix At = A.transpose();
+      std::printf("    asymmetry |A - A^T| / |A| = %.3e\n", (A - At).norm() / A.norm());
+    }
     CholeskyPreconditioner factor(false, backend);
     const auto t0 = Clock::now();
     const bool ok = factor.factorNow(A);
     const double ms = 1e3 * seconds(t0);
     return ok ? ms : NAN;
+  }
+
+  // Force and stiffness assembly alone at the start state, median of 9 (ms), on `threads`.
+  std::pair<double, double> forceAndAssemblyMs(int threads) {
+    setThreadCount(threads);
+    Scene scene = loadScene(scenePath_);
+    System& system = scene.system;
+    system.state = start_;
+    Eigen::VectorXd f;
+    SparseMatrix K;
+    std::vector<double> force, assembly;
+    for (int r = 0; r < 9; ++r) {
+      auto t0 = Clock::now();
+      system.computeForce(system.state.x, system.state.v, f);
+      force.push_back(1e3 * seconds(t0));
+      t0 = Clock::now();
+      system.assembleStiffness(system.state.x, K);
+      assembly.push_back(1e3 * seconds(t0));
+    }
+    setThreadCount(1);
+    return {quantile(force, 0.5), quantile(assembly, 0.5)};
   }
 
   int tets() const { return tets_; }
@@ -203,6 +244,7 @@ class Bench {
  private:
   static constexpr double kStep = 0.01;
   static constexpr int kUntimed = 3;
+  static constexpr double kToolRadius = 0.006;
 
   static BackwardEulerParams tightParams() {
     BackwardEulerParams p;
@@ -217,28 +259,35 @@ class Bench {
   std::unique_ptr<TissueContact> makeContact(Scene& scene) const {
     ToolShape sphere;
     sphere.type = ToolShape::Type::kSphere;
-    sphere.radius = 0.006;
+    sphere.radius = kToolRadius;
     sphere.link = "tip";
     auto contact = std::make_unique<TissueContact>(scene.system, *scene.contact,
                                                    std::vector<ToolShape>{sphere});
-    const Eigen::Isometry3d pose = pressingPose(scene.system, sphere.radius, 0.006);
-    contact->setTool(pose, {pose}, 1.0, scene.system.state.t);
+    contact->setTool(toolPose_, {toolPose_}, 1.0, scene.system.state.t);
     return contact;
   }
 
   std::string scenePath_;
   int steps_;
   State start_;
+  Eigen::Isometry3d toolPose_ = Eigen::Isometry3d::Identity();
   int tets_ = 0, dofs_ = 0;
   size_t inContact_ = 0;
 };
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  const int maxTets = argc > 1 ? std::atoi(argv[1]) : 120000;
-  FILE* csv = argc > 2 ? std::fopen(argv[2], "w") : nullptr;
-  if (argc > 2 && !csv) {
+int runAll(int argc, char** argv) {
+  std::vector<int> sizes;
+  std::stringstream list(argc > 1 ? argv[1] : "3000,10000,50000,100000");
+  for (std::string item; std::getline(list, item, ',');) {
+    const int n = std::atoi(item.c_str());
+    if (n < 100) throw std::invalid_argument("SIZES: expected tet counts >= 100, got '" + item + "'");
+    sizes.push_back(n);
+  }
+  const bool wantCsv = argc > 2 && std::string(argv[2]) != "-";
+  FILE* csv = wantCsv ? std::fopen(argv[2], "w") : nullptr;
+  if (wantCsv && !csv) {
     std::fprintf(stderr, "bench_implicit_step: cannot write %s\n", argv[2]);
     return 2;
   }
@@ -260,9 +309,21 @@ int main(int argc, char** argv) {
       {"cholesky", cholesky, cholmod, 1, 1e-3},
       {"cholesky", cholesky, cholmod, 2, 1e-4},
       {"cholesky", cholesky, simplicial, 1, 1e-4},
+      {"cholesky, refactor > 5", cholesky, cholmod, 1, 1e-4, 5},
+      {"cholesky, refactor > 0", cholesky, cholmod, 1, 1e-4, 0},
+      {"cholesky, never refactor", cholesky, cholmod, 1, 1e-4, 1000000},
   };
-  for (const int target : {3000, 10000, 50000, 100000}) {
-    if (target > maxTets) break;
+  std::vector<char> wanted(setups.size(), argc <= 3);
+  if (argc > 3) {
+    std::stringstream rows(argv[3]);
+    for (std::string item; std::getline(rows, item, ',');) {
+      const int row = std::atoi(item.c_str());
+      if (row < 1 || row > static_cast<int>(setups.size()))
+        throw std::invalid_argument("ROWS: expected numbers in [1, " + std::to_string(setups.size()) + "], got '" + item + "'");
+      wanted[row - 1] = 1;
+    }
+  }
+  for (const int target : sizes) {
     int tets = 0;
     const std::string mesh = refinedLiver(target, tets);
     if (mesh.empty()) {
@@ -277,10 +338,17 @@ int main(int argc, char** argv) {
                 "factorisation: CHOLMOD %.0f ms, SimplicialLDLT %.0f ms\n",
                 bench.tets(), bench.dofs(), bench.contactPoints(), steps,
                 bench.factorMs(cholmod), bench.factorMs(simplicial));
+    for (int threads : {1, 2}) {
+      const auto [forceMs, assemblyMs] = bench.forceAndAssemblyMs(threads);
+      std::printf("  %d thread(s): force %.2f ms, stiffness assembly %.2f ms\n", threads,
+                  forceMs, assemblyMs);
+    }
     std::printf("  %-22s %-14s %3s %7s %8s %8s %8s %8s %6s %6s %9s %4s %9s %9s\n", "setup",
                 "backend", "thr", "tol", "p50 ms", "p99 ms", "max ms", "contact", "its", "max",
                 "residual", "fact", "error p50", "error max");
-    for (const Setup& setup : setups) {
+    for (size_t row = 0; row < setups.size(); ++row) {
+      const Setup& setup = setups[row];
+      if (!wanted[row]) continue;
       if (setup.preconditioner == jacobi && setup.tolerance < 1e-6 && target > 50000) continue;
       const Result r = bench.run(setup);
       const char* backend = setup.preconditioner == jacobi ? "-" : backendName(setup.backend);
@@ -305,4 +373,13 @@ int main(int argc, char** argv) {
   }
   if (csv) std::fclose(csv);
   return 0;
+}
+
+int main(int argc, char** argv) {
+  try {
+    return runAll(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_implicit_step: %s\n", e.what());
+    return 2;
+  }
 }
