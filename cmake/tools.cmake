@@ -8,6 +8,8 @@ foreach(src ${TT_TOOL_SOURCES})
   add_executable(${tool} ${src})
   target_link_libraries(${tool} tissue_trainer_core)
   target_compile_options(${tool} PRIVATE -Wall -Wextra)
+  # Where the repository's config/ is when $TT_SOURCE_DIR does not say.
+  target_compile_definitions(${tool} PRIVATE TT_SOURCE_ROOT="${TT_ROOT}")
   list(APPEND TT_TOOLS ${tool})
 endforeach()
 

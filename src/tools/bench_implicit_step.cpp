@@ -9,12 +9,13 @@
 //
 // For every timed step: the wall time of the step (force, assembly, solve) and of the contact
 // query before it, the PCG iterations, the achieved relative residual, and the step's error
-// against the same step solved to 1e-12 from the same state: max |x - x_ref| / max |x_ref -
+// against the same step solved to 1e-10 from the same state: max |x - x_ref| / max |x_ref -
 // x_start|. Each size starts from the same state (the liver at rest, then the tool pressed in
 // for 10 steps). Also the
 // time of one factorisation of the system matrix at rest, per backend.
 //   bench_implicit_step [SIZES=3000,10000,50000,100000] [CSV|-] [ROWS]
 // SIZES: target tet counts; ROWS: the set-ups to run, as 1-based row numbers (default all).
+// TT_BENCH_TRACE=1 prints every step (time, iterations, factors, contact points).
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
@@ -109,6 +110,11 @@ Eigen::Isometry3d pressingPose(const System& system, double radius, double depth
   return Eigen::Isometry3d(Eigen::Translation3d(top + Eigen::Vector3d(0, 0, radius - depth)));
 }
 
+// A CSV field: quoted when it holds a comma.
+std::string csvField(const std::string& text) {
+  return text.find(',') == std::string::npos ? text : '"' + text + '"';
+}
+
 struct Setup {
   const char* label;
   Preconditioning preconditioner;
@@ -158,7 +164,6 @@ class Bench {
     params.preconditioner = setup.preconditioner;
     params.choleskyBackend = setup.backend;
     params.refactorIterations = setup.refactorIterations;
-    if (std::getenv("TT_BENCH_SYNC")) params.backgroundRefactor = false;
     BackwardEulerIntegrator integrator(params);
     BackwardEulerIntegrator reference(tightParams());
     Result r;
@@ -246,13 +251,12 @@ class Bench {
   static constexpr int kUntimed = 3;
   static constexpr double kToolRadius = 0.006;
 
+  // The reference and the settling steps: Jacobi-PCG to 1e-10 (a Cholesky factor would need
+  // BiCGSTAB and thousands of iterations where the pressed liver's matrix is indefinite).
   static BackwardEulerParams tightParams() {
     BackwardEulerParams p;
-    p.linearTolerance = 1e-12;
+    p.linearTolerance = 1e-10;
     p.linearMaxIterations = 20000;
-    p.preconditioner = Preconditioning::kCholesky;
-    p.backgroundRefactor = false;
-    p.refactorIterations = 30;
     return p;
   }
 
@@ -301,17 +305,16 @@ int runAll(int argc, char** argv) {
   const auto cholmod = CholeskyBackend::kCholmod, simplicial = CholeskyBackend::kEigenSimplicial;
   const auto jacobi = Preconditioning::kJacobi, cholesky = Preconditioning::kCholesky;
   const std::vector<Setup> setups = {
-      {"jacobi, scene default", jacobi, cholmod, 1, 1e-8},
+      {"jacobi, scenes before", jacobi, cholmod, 1, 1e-8},
       {"jacobi", jacobi, cholmod, 1, 1e-4},
       {"cholesky", cholesky, cholmod, 1, 1e-8},
       {"cholesky", cholesky, cholmod, 1, 1e-6},
       {"cholesky", cholesky, cholmod, 1, 1e-4},
-      {"cholesky", cholesky, cholmod, 1, 1e-3},
-      {"cholesky", cholesky, cholmod, 2, 1e-4},
-      {"cholesky", cholesky, simplicial, 1, 1e-4},
-      {"cholesky, refactor > 5", cholesky, cholmod, 1, 1e-4, 5},
-      {"cholesky, refactor > 0", cholesky, cholmod, 1, 1e-4, 0},
-      {"cholesky, never refactor", cholesky, cholmod, 1, 1e-4, 1000000},
+      {"cholesky, scenes now", cholesky, cholmod, 1, 1e-3},
+      {"cholesky", cholesky, cholmod, 2, 1e-3},
+      {"cholesky", cholesky, simplicial, 1, 1e-3},
+      {"cholesky, refactor > 5", cholesky, cholmod, 1, 1e-3, 5},
+      {"cholesky, never refactor", cholesky, cholmod, 1, 1e-3, 1000000},
   };
   std::vector<char> wanted(setups.size(), argc <= 3);
   if (argc > 3) {
@@ -362,13 +365,14 @@ int runAll(int argc, char** argv) {
       std::fflush(stdout);
       if (csv)
         std::fprintf(csv, "%d,%d,%s,%s,%s,%d,%g,%zu,%.4f,%.4f,%.4f,%.4f,%.0f,%.0f,%.3e,%d,%d,%d,"
-                          "%.3e,%.3e\n", bench.tets(), bench.dofs(), setup.label,
+                          "%.3e,%.3e\n", bench.tets(), bench.dofs(), csvField(setup.label).c_str(),
                      setup.preconditioner == jacobi ? "jacobi" : "cholesky", backend,
                      setup.threads, setup.tolerance, r.stepMs.size(), quantile(r.stepMs, 0.5),
                      quantile(r.stepMs, 0.99), quantile(r.stepMs, 1.0),
                      quantile(r.contactMs, 0.5), quantile(r.iterations, 0.5),
                      quantile(r.iterations, 1.0), quantile(r.residuals, 0.5), r.factorizations,
                      r.refused, r.failed, quantile(r.errors, 0.5), quantile(r.errors, 1.0));
+      if (csv) std::fflush(csv);
     }
   }
   if (csv) std::fclose(csv);

@@ -65,18 +65,33 @@ const Preconditioner& BackwardEulerIntegrator::choosePreconditioner() {
   diagonalValues_.resize(A_.rows());
   for (int row = 0; row < A_.rows(); ++row) diagonalValues_[row] = A_.valuePtr()[diagonal_[row]];
   jacobi_.setDiagonal(diagonalValues_);
-  if (params.preconditioner != BackwardEulerParams::Preconditioning::kCholesky) return jacobi_;
+  if (!cholesky_) return jacobi_;
+  if (cholesky_->ready()) return *cholesky_;
+  ++diagnostics_.jacobiFallbacks;
+  return jacobi_;
+}
+
+void BackwardEulerIntegrator::ensureFactor(const System& system, double h) {
+  if (params.preconditioner != BackwardEulerParams::Preconditioning::kCholesky) return;
   if (!cholesky_) {
     cholesky_ = std::make_unique<CholeskyPreconditioner>(params.backgroundRefactor,
                                                          params.choleskyBackend);
     solvesSinceRefusal_ = kRefactorRetrySolves;
   }
-  if (!cholesky_->ready() && !cholesky_->busy() && solvesSinceRefusal_ >= kRefactorRetrySolves)
-    cholesky_->factorNow(A_);
+  if (cholesky_->ready() || cholesky_->busy() || solvesSinceRefusal_ < kRefactorRetrySolves)
+    return;
+  if (!cholesky_->factorNow(A_)) {
+    // Not positive definite here (a stiffness softened by compression): the matrix of the
+    // rest shape is, and stays close enough to precondition the steps near it.
+    const Eigen::Map<const Eigen::VectorXd> rest(system.mesh.rest.data(),
+                                                 system.mesh.rest.size());
+    system.assembleStiffness(rest, restA_, -h * h);
+    for (int row = 0; row < restA_.rows(); ++row)
+      restA_.coeffRef(row, row) += system.mass[row] + h * system.damping[row];
+    system.constrainMatrix(restA_);
+    cholesky_->factorNow(restA_);
+  }
   noteRefusals();
-  if (cholesky_->ready()) return *cholesky_;
-  ++diagnostics_.jacobiFallbacks;
-  return jacobi_;
 }
 
 void BackwardEulerIntegrator::noteRefusals() {
@@ -174,6 +189,7 @@ StepAttempt BackwardEulerIntegrator::attempt(System& system, const StepContext& 
                   "backward_euler: non-finite force or stiffness at t = " + std::to_string(s.t));
   }
   system.constrainMatrix(A_);
+  ensureFactor(system, h);
   if (!params.warmStart || dv_.size() != n) dv_.setZero(n);
   for (int dof : system.constrainedDofs) dv_[dof] = constrainedDv_[dof];
   report.linearIterations += solve(rhs_, dv_);

@@ -30,7 +30,8 @@ void registerBackwardEuler(Registry& registry) {
     p.newtonTolerance = spec.positive("newton_tolerance", p.newtonTolerance);
     p.requireConvergence = spec.boolean("require_convergence", p.requireConvergence);
     p.warmStart = spec.boolean("warm_start", p.warmStart);
-    if (spec.has("preconditioner") && spec["preconditioner"].choice({"jacobi", "cholesky"}) == "cholesky")
+    if (spec.has("preconditioner") &&
+        spec["preconditioner"].choice({"jacobi", "cholesky"}) == "cholesky")
       p.preconditioner = BackwardEulerParams::Preconditioning::kCholesky;
     p.refactorIterations = spec.integerAtLeast("refactor_iterations", 1, p.refactorIterations);
     p.backgroundRefactor = spec.boolean("background_refactor", p.backgroundRefactor);

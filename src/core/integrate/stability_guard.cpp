@@ -105,6 +105,12 @@ StepReport StabilityGuard::advance(System& system, double frameTime) {
                          std::to_string(1 << depth) + ")" + (spent.empty() ? "" : "; " + spent) +
                          "; state restored";
         report.ok = false;
+        // Out of time before out of halvings: the next frame starts one halving deeper, so
+        // that frames too slow to retry within the budget still make progress.
+        if (!spent.empty() && depth < params_.maxHalvings) {
+          startDepth_ = depth + 1;
+          calmFrames_ = 0;
+        }
         // The restored state is where frameBalance_ was measured: the next frame continues
         // from it, carried sum included, which forgets a little even so.
         measured_ = frameStart_;
@@ -192,7 +198,8 @@ std::string StabilityGuard::attempt(System& system, double frameTime, int depth,
     std::string problem = step.ok ? check(system, step.lastStep) : "integrator failed: " + step.failure;
     if (!problem.empty())
       return problem + format(" in t = [%.9g, %.9g] s", start, end);
-    if (depth > 0 && i + 1 < pieces && !budgetSpent().empty()) {
+    // The frame's first attempt always finishes: a frame that starts deep must still advance.
+    if (depth > startDepth_ && i + 1 < pieces && !budgetSpent().empty()) {
       stoppedForBudget_ = true;
       return format("stopped for the budget at t = %.9g s", end);
     }

@@ -295,10 +295,12 @@ class SlowAndSpoilsTheFrameEnd : public Integrator {
   const char* name() const override { return "slow_and_spoils_the_frame_end"; }
   StepReport advance(System& system, double frameTime) override {
     std::this_thread::sleep_for(std::chrono::milliseconds(4));
+    pieces.push_back(frameTime);
     system.state.t += frameTime;
     if (system.state.t > kFrame * (1.0 - 1e-9)) system.state.v[0] = std::nan("");
     return {};
   }
+  std::vector<double> pieces;  // the length of every call
 };
 
 TEST(StabilityGuard, AWallTimeBudgetEndsTheRetriesOfAFrameThatCannotBeMadeStable) {
@@ -312,7 +314,9 @@ TEST(StabilityGuard, AWallTimeBudgetEndsTheRetriesOfAFrameThatCannotBeMadeStable
 
   StabilityGuardParams p;
   p.wallBudget = 3 * kFrame;  // three frame periods
-  StabilityGuard budgeted(std::make_unique<SlowAndSpoilsTheFrameEnd>(), p);
+  auto slow = std::make_unique<SlowAndSpoilsTheFrameEnd>();
+  SlowAndSpoilsTheFrameEnd& calls = *slow;
+  StabilityGuard budgeted(std::move(slow), p);
   const StepReport r = budgeted.advance(*s, kFrame);
   ASSERT_FALSE(r.ok);
   EXPECT_LT(r.halvings, 6);
@@ -323,6 +327,12 @@ TEST(StabilityGuard, AWallTimeBudgetEndsTheRetriesOfAFrameThatCannotBeMadeStable
   EXPECT_EQ(s->state.x, start.x);  // the last good state is kept
   EXPECT_EQ(s->state.v, start.v);
   EXPECT_EQ(s->state.t, start.t);
+
+  // The next frame starts one halving deeper than the last attempt of this one.
+  calls.pieces.clear();
+  budgeted.advance(*s, kFrame);
+  ASSERT_FALSE(calls.pieces.empty());
+  EXPECT_NEAR(calls.pieces.front(), kFrame / (1 << (r.halvings + 1)), 1e-15);
 }
 
 TEST(StabilityGuard, NoHalvingsAllowedFailsAtOnceWithTheCheckAndRestores) {

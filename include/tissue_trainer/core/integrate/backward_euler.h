@@ -19,7 +19,8 @@
 // the same initial guess, and the event is counted in diagnostics().
 //
 // Preconditioners: Jacobi, or the sparse Cholesky factor of an earlier system matrix
-// (solve/cholesky_preconditioner.h). The first step factors its own matrix; a solve that
+// (solve/cholesky_preconditioner.h). The first step factors its own matrix (or, when that is
+// not positive definite, the matrix of the rest shape, which is); a solve that
 // needs more than refactorIterations iterations, or meets non-positive curvature, starts a
 // new factorisation of its matrix (on a thread of its own when backgroundRefactor), which
 // takes over at the start of a later step. A matrix that is not positive definite keeps the
@@ -84,8 +85,10 @@ class BackwardEulerIntegrator : public SteppedIntegrator {
   // Solves A x = b (x holds the initial guess); returns the iterations used.
   int solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
   int solveUnit(const Eigen::VectorXd& b, Eigen::VectorXd& x);  // max |b_i| = 1
-  // The preconditioner for A_ in this solve (with Cholesky, a factor of A_ is made first if
-  // none is installed).
+  // With Cholesky and no factor installed: factors A_ now, or the rest shape's matrix when A_
+  // is not positive definite (constrained as A_ is).
+  void ensureFactor(const System& system, double h);
+  // The preconditioner for A_ in this solve: the Cholesky factor when installed, else Jacobi.
   const Preconditioner& choosePreconditioner();
   // After a solve of `iterations`: starts a new factor of A_ when the solve was slow.
   void considerRefactor(int iterations, bool lostCurvature);
@@ -93,7 +96,7 @@ class BackwardEulerIntegrator : public SteppedIntegrator {
   int finishSolve(const SolveReport& report, int earlierIterations, bool lostCurvature);
 
   BackwardEulerDiagnostics diagnostics_;
-  SparseMatrix A_, C_;
+  SparseMatrix A_, C_, restA_;
   std::vector<int> diagonal_;  // offset of (i, i) in A_'s value array
   Eigen::VectorXd dv_, f_, rhs_, constrainedDv_, residual_, correction_;
   Eigen::VectorXd unitB_, guess_, diagonalValues_;

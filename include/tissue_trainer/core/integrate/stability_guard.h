@@ -46,9 +46,12 @@
 // sum, which still forgets a little; a state changed from outside between frames restarts it.
 //
 // Real time: with a wall-clock budget per frame (wallBudget > 0; the simulation node gives it a
-// few frame periods) the guard starts no further attempt, and stops an attempt between its
-// pieces, once the frame has used the budget: the frame then fails as above (state restored),
-// so that a frame it cannot make stable costs the node a few periods, not seconds.
+// few frame periods) the guard starts no further attempt, and stops an attempt other than the
+// frame's first between its pieces, once the frame has used the budget: the frame then fails
+// as above (state restored),
+// so that a frame it cannot make stable costs the node a few periods, not seconds, and the
+// next frame starts with one halving more than the last attempt (a frame too slow to be
+// retried within the budget then still gets its shorter steps, one frame later).
 //
 // When every check passes at once the wrapped integrator has advanced the frame exactly as it
 // would alone (bit-identical state); the guard only adds its measurements. After a rollback,

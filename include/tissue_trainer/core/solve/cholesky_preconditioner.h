@@ -7,9 +7,9 @@
 // run on a thread of its own (the other core) while the old factor keeps serving, and the new
 // one takes over only when the caller calls update() (between steps, never inside a solve).
 //
-// Backends: CHOLMOD (SuiteSparse, through Eigen's CholmodSupport; supernodal L L^T)
-// and Eigen's SimplicialLDLT, kept for comparison in the benchmarks. A matrix that is not positive definite is refused
-// (factor() false): the previous factor stays in use, or none is installed.
+// Backends: CHOLMOD (SuiteSparse, through Eigen's CholmodSupport; supernodal L L^T) and
+// Eigen's SimplicialLDLT, kept for comparison in the benchmarks. A matrix that is not positive
+// definite is refused: the previous factor stays in use, or none is installed.
 #include <Eigen/Core>
 #include <atomic>
 #include <memory>
