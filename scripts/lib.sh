@@ -16,10 +16,10 @@ TT_PACKAGES=(
   ros-std-msgs ros-geometry-msgs ros-sensor-msgs ros-visualization-msgs
   ros-std-srvs libstd-srvs-dev ros-diagnostic-msgs libdiagnostic-msgs-dev
   libbullet-dev libosmesa6-dev libpng-dev libeigen3-dev libyaml-cpp-dev libgtest-dev
-  # CHOLMOD, the sparse Cholesky factor of the implicit solver's preconditioner, and the
-  # single-threaded OpenBLAS it runs on (twice as fast as the reference BLAS; no threads of
-  # its own beside the haptic loop).
-  libsuitesparse-dev libopenblas0-serial
+  # CHOLMOD, the sparse Cholesky factor of the implicit solver's preconditioner, and OpenBLAS
+  # under it (twice as fast as the reference BLAS). The threaded build, because only it may be
+  # called from two threads at once; the core keeps it to the calling thread.
+  libsuitesparse-dev libopenblas0-pthread
   # The two-host test's network namespaces (ip netns, veth).
   iproute2
   # Python message modules, so that rostopic echo, rosbag and rospy read every topic.

@@ -1,5 +1,7 @@
 #include "tissue_trainer/core/solve/cholesky_preconditioner.h"
 
+#include <dlfcn.h>
+
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCholesky>
 #include <utility>
@@ -14,6 +16,20 @@ using ColumnMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 Eigen::Map<const ColumnMatrix> asColumnMajor(const SparseMatrix& A) {
   return {A.rows(), A.cols(), A.nonZeros(), A.outerIndexPtr(), A.innerIndexPtr(),
           A.valuePtr()};
+}
+
+// CHOLMOD calls BLAS from the factorising thread and from the solving one at once. OpenBLAS is
+// safe for that only in its threaded build (the serial one has no locks), whose own threads
+// would then compete with the haptic loop: one thread each, in the caller. Other BLAS
+// libraries have no such call and are left as they are.
+void keepBlasInTheCallingThread() {
+  static const bool once = [] {
+    using SetThreads = void (*)(int);
+    if (auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")))
+      set(1);
+    return true;
+  }();
+  (void)once;
 }
 
 }  // namespace
@@ -80,7 +96,9 @@ CholeskyPreconditioner::CholeskyPreconditioner(bool background, CholeskyBackend 
     : background_(background),
       backend_(backend),
       active_(makeFactor(backend_)),
-      pending_(makeFactor(backend_)) {}
+      pending_(makeFactor(backend_)) {
+  keepBlasInTheCallingThread();
+}
 
 CholeskyPreconditioner::~CholeskyPreconditioner() {
   if (worker_.joinable()) worker_.join();
