@@ -6,10 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <random>
 #include <string>
 #include <vector>
 
+#include "solve_test_util.h"
 #include "tissue_trainer/core/solve/cholesky_preconditioner.h"
 
 namespace tt {
@@ -37,14 +37,6 @@ SparseMatrix scaledGrid(int n, double shift, double spread) {
   SparseMatrix A(n * n, n * n);
   A.setFromTriplets(t.begin(), t.end());
   return A;
-}
-
-Eigen::VectorXd randomVector(Eigen::Index size, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> n(0.0, 1.0);
-  Eigen::VectorXd v(size);
-  for (Eigen::Index i = 0; i < size; ++i) v[i] = n(rng);
-  return v;
 }
 
 // CG on A from zero with preconditioner M; the true relative residual must meet 1e-10.

@@ -4,9 +4,9 @@
 // BiCGSTAB and GMRES). Every answer is checked by its true residual, not the solver's own.
 #include <gtest/gtest.h>
 
-#include <random>
 #include <vector>
 
+#include "solve_test_util.h"
 #include "tissue_trainer/core/solve/krylov.h"
 
 namespace tt {
@@ -27,14 +27,6 @@ SparseMatrix gridMatrix(int n, double shift, double wind = 0.0) {
   SparseMatrix A(n * n, n * n);
   A.setFromTriplets(t.begin(), t.end());
   return A;
-}
-
-Eigen::VectorXd randomVector(Eigen::Index size, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> n(0.0, 1.0);
-  Eigen::VectorXd v(size);
-  for (Eigen::Index i = 0; i < size; ++i) v[i] = n(rng);
-  return v;
 }
 
 double trueResidual(const SparseMatrix& A, const Eigen::VectorXd& b, const Eigen::VectorXd& x) {
