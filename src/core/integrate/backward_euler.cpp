@@ -18,16 +18,17 @@ double freeNorm(const System& system, Eigen::VectorXd r) {
 }  // namespace
 
 void BackwardEulerIntegrator::buildMatrix(const System& system, double h,
-                                          const Eigen::VectorXd& x, const Eigen::VectorXd& v) {
-  system.assembleStiffness(x, A_, -h * h);  // in place: no copy of K
-  if (diagonal_.size() != static_cast<size_t>(A_.rows())) {
-    diagonal_.assign(A_.rows(), -1);
-    for (int row = 0; row < A_.outerSize(); ++row)
-      for (SparseMatrix::InnerIterator it(A_, row); it; ++it)
-        if (it.col() == row) diagonal_[row] = static_cast<int>(&it.valueRef() - A_.valuePtr());
+                                          const Eigen::VectorXd& x, const Eigen::VectorXd& v,
+                                          SparseMatrix& A) {
+  system.assembleStiffness(x, A, -h * h);  // in place: no copy of K
+  if (diagonal_.size() != static_cast<size_t>(A.rows())) {
+    diagonal_.assign(A.rows(), -1);
+    for (int row = 0; row < A.outerSize(); ++row)
+      for (SparseMatrix::InnerIterator it(A, row); it; ++it)
+        if (it.col() == row) diagonal_[row] = static_cast<int>(&it.valueRef() - A.valuePtr());
   }
-  double* a = A_.valuePtr();
-  for (int row = 0; row < A_.rows(); ++row)
+  double* a = A.valuePtr();
+  for (int row = 0; row < A.rows(); ++row)
     a[diagonal_[row]] += system.mass[row] + h * system.damping[row];
   if (!system.hasVelocityJacobian()) return;
   system.assembleVelocityJacobian(x, v, C_);
@@ -85,9 +86,7 @@ void BackwardEulerIntegrator::ensureFactor(const System& system, double h) {
     // rest shape is, and stays close enough to precondition the steps near it.
     const Eigen::Map<const Eigen::VectorXd> rest(system.mesh.rest.data(),
                                                  system.mesh.rest.size());
-    system.assembleStiffness(rest, restA_, -h * h);
-    for (int row = 0; row < restA_.rows(); ++row)
-      restA_.coeffRef(row, row) += system.mass[row] + h * system.damping[row];
+    buildMatrix(system, h, rest, Eigen::VectorXd::Zero(rest.size()), restA_);
     system.constrainMatrix(restA_);
     cholesky_->factorNow(restA_);
   }
@@ -95,9 +94,8 @@ void BackwardEulerIntegrator::ensureFactor(const System& system, double h) {
 }
 
 void BackwardEulerIntegrator::noteRefusals() {
-  if (cholesky_->notPositiveDefinite() > refusalsSeen_) solvesSinceRefusal_ = 0;
-  refusalsSeen_ = cholesky_->notPositiveDefinite();
-  diagnostics_.notPositiveDefinite = refusalsSeen_;
+  if (cholesky_->notPositiveDefinite() > diagnostics_.notPositiveDefinite) solvesSinceRefusal_ = 0;
+  diagnostics_.notPositiveDefinite = cholesky_->notPositiveDefinite();
   diagnostics_.factorizations = cholesky_->factorizations();
 }
 
@@ -166,7 +164,7 @@ StepAttempt BackwardEulerIntegrator::attempt(System& system, const StepContext& 
   const Eigen::Index n = s.x.size();
   system.computeForce(s.x, s.v, f_);
   ++report.jacobians;
-  buildMatrix(system, h, s.x, s.v);
+  buildMatrix(system, h, s.x, s.v, A_);
 
   // Constrained DOFs: dv that lands x + h (v + dv) on the prescribed position at t + h.
   targetX_ = s.x;
@@ -220,7 +218,7 @@ StepAttempt BackwardEulerIntegrator::attempt(System& system, const StepContext& 
       }
       if (solves >= params.newtonIterations) break;
       ++report.jacobians;
-      buildMatrix(system, h, x1_, v1_);
+      buildMatrix(system, h, x1_, v1_, A_);
       system.constrainMatrix(A_);
       correction_.setZero(n);
       report.linearIterations += solve(-residual_, correction_);

@@ -93,10 +93,7 @@ const char* backendName(CholeskyBackend backend) {
 }
 
 CholeskyPreconditioner::CholeskyPreconditioner(bool background, CholeskyBackend backend)
-    : background_(background),
-      backend_(backend),
-      active_(makeFactor(backend_)),
-      pending_(makeFactor(backend_)) {
+    : background_(background), active_(makeFactor(backend)), pending_(makeFactor(backend)) {
   keepBlasInTheCallingThread();
 }
 

@@ -78,10 +78,10 @@ class BackwardEulerIntegrator : public SteppedIntegrator {
   std::string accept(System& system, const StepContext& step) override;
   void abandonFrame(const System&) override { dv_.setZero(); }
   // A = M + h c - h^2 K - h D at (x, v), K assembled into A in place: c the per-DOF damping,
-  // D the models' df/dv (damping and friction forces are implicit). The caller applies the
-  // constraints.
+  // D the models' df/dv (damping and friction forces are implicit). A has the system's
+  // pattern (A_, or the rest shape's restA_). The caller applies the constraints.
   void buildMatrix(const System& system, double h, const Eigen::VectorXd& x,
-                   const Eigen::VectorXd& v);
+                   const Eigen::VectorXd& v, SparseMatrix& A);
   // Solves A x = b (x holds the initial guess); returns the iterations used.
   int solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
   int solveUnit(const Eigen::VectorXd& b, Eigen::VectorXd& x);  // max |b_i| = 1
@@ -92,17 +92,17 @@ class BackwardEulerIntegrator : public SteppedIntegrator {
   const Preconditioner& choosePreconditioner();
   // After a solve of `iterations`: starts a new factor of A_ when the solve was slow.
   void considerRefactor(int iterations, bool lostCurvature);
-  void noteRefusals();  // counts the factorisations refused since the last look
+  void noteRefusals();  // copies the factor counts into diagnostics_, noting new refusals
   int finishSolve(const SolveReport& report, int earlierIterations, bool lostCurvature);
 
   BackwardEulerDiagnostics diagnostics_;
   SparseMatrix A_, C_, restA_;
-  std::vector<int> diagonal_;  // offset of (i, i) in A_'s value array
+  std::vector<int> diagonal_;  // offset of (i, i) in the value array of the system pattern
   Eigen::VectorXd dv_, f_, rhs_, constrainedDv_, residual_, correction_;
   Eigen::VectorXd unitB_, guess_, diagonalValues_;
   JacobiPreconditioner jacobi_;
   std::unique_ptr<CholeskyPreconditioner> cholesky_;  // with Preconditioning::kCholesky
-  int solvesSinceRefusal_, refusalsSeen_ = 0;
+  int solvesSinceRefusal_ = 0;  // since the last refused factorisation
   KrylovWorkspace krylov_;
   Eigen::VectorXd x1_, v1_, targetX_, targetV_;
 };

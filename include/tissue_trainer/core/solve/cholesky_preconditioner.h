@@ -48,7 +48,6 @@ class CholeskyPreconditioner final : public Preconditioner {
   bool busy() const { return busy_; }          // a factorisation is running
   int factorizations() const { return factorizations_; }   // installed so far
   int notPositiveDefinite() const { return refused_; }     // refused so far
-  CholeskyBackend backend() const { return backend_; }
 
   // z = L^-T D^-1 L^-1 r for the installed factor (r itself when none is installed).
   void apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const override;
@@ -59,7 +58,6 @@ class CholeskyPreconditioner final : public Preconditioner {
   bool finish(bool positiveDefinite);
 
   bool background_;
-  CholeskyBackend backend_;
   std::unique_ptr<Factor> active_, pending_;
   SparseMatrix copy_;
   std::thread worker_;
