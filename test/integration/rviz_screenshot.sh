@@ -123,5 +123,7 @@ for _ in $(seq 10); do
   sleep 2
 done
 echo "rviz_screenshot: $check; $((SECONDS - start)) s after roslaunch (screenshot: $work/rviz.png)"
+crashes=$(grep -c '\[rviz-[0-9]*\] process has died' "$work/launch.log" || true)
+[ "$crashes" -eq 0 ] || echo "rviz_screenshot: RViz died $crashes time(s) and was respawned (log: $work/launch.log)"
 [ $passed -eq 1 ] || fail "the 3D view does not show the tissue and the instrument: $check"
 result "" "<system-out>$check</system-out>"
