@@ -54,30 +54,4 @@ void parallelRanges(int parts, int count, RangeFunction body) {
 #endif
 }
 
-void parallelGroups(int parts, const std::vector<int>& starts, RangeFunction body) {
-  parts = std::max(parts, 1);
-  const int groups = static_cast<int>(starts.size()) - 1;
-  auto runGroup = [&](int g, int part, int stride) {
-    const int size = starts[g + 1] - starts[g];
-    for (; part < parts; part += stride)
-      body(part, starts[g] + rangeBegin(size, parts, part),
-           starts[g] + rangeBegin(size, parts, part + 1));
-  };
-  if (parts == 1) {
-    for (int g = 0; g < groups; ++g) runGroup(g, 0, 1);
-    return;
-  }
-#ifdef TT_HAVE_OPENMP
-#pragma omp parallel num_threads(parts)
-  {
-    for (int g = 0; g < groups; ++g) {
-      runGroup(g, omp_get_thread_num(), omp_get_num_threads());
-#pragma omp barrier
-    }
-  }
-#else
-  for (int g = 0; g < groups; ++g) runGroup(g, 0, 1);
-#endif
-}
-
 }  // namespace tt

@@ -143,8 +143,10 @@ void benchGrid(int cells, int repeats) {
   setThreadCount(1);
   std::printf("  %-38s %9.3f %9.2f %9.3f %9.2f %8.2f %8s %10.2e\n", "stiffness assembly (fast)",
               1e3 * s[0], mtets / s[0], 1e3 * s[1], mtets / s[1] / 2, s[0] / s[1], "-", diff);
-  std::printf("  (%zu tet colours for the threaded assembly; rel diff of K: 2 vs 1 thread)\n",
-              pattern.colourStarts().size() - 1);
+  const RowOwnership& bands = pattern.rowOwnership(2);
+  std::printf("  (threaded assembly: tets visited by the two row bands %zu + %zu of %d; rel diff "
+              "of K: 2 vs 1 thread)\n", bands.tets[0].size(), bands.tets[1].size(),
+              pattern.numTets());
 }
 
 }  // namespace

@@ -47,9 +47,4 @@ inline int rangeBegin(int count, int parts, int part) {
 // thread when parts <= threads (empty ranges are still visited).
 void parallelRanges(int parts, int count, RangeFunction body);
 
-// For each group g in order, runs body(part, begin, end) over `parts` contiguous ranges of
-// [starts[g], starts[g + 1]), the ranges of one group in parallel, groups one after another
-// (a barrier between groups). Used with a colouring: no two items of a group conflict.
-void parallelGroups(int parts, const std::vector<int>& starts, RangeFunction body);
-
 }  // namespace tt

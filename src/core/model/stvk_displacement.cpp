@@ -80,10 +80,10 @@ double StvkDisplacementModel::energy(const Eigen::VectorXd& x) const {
 void StvkDisplacementModel::addStiffness(const Eigen::VectorXd& x, double scale,
                                          const SparsePattern& pattern, SparseMatrix& K) const {
   double* values = K.valuePtr();
-  forEachTetColoured(pattern, static_cast<int>(tets_.size()), [&](int e) {
+  forEachTetByRows(pattern, static_cast<int>(tets_.size()), [&](int e, TetRows rows) {
     const Matrix34d xe = gatherTet(x, tets_[e]);
     const Matrix34d at = sign_ == AlphaSign::kCorrect ? xe : 2.0 * gatherTet(rest_, tets_[e]) - xe;
-    addStvkTetStiffness(at, stvk_[e], scale, pattern.tetOffsets(e), values);
+    addStvkTetStiffness(at, stvk_[e], scale, pattern.tetOffsets(e), values, rows);
   });
 }
 

@@ -56,9 +56,10 @@ double TensorMassModel::energy(const Eigen::VectorXd& x) const {
 void TensorMassModel::addStiffness(const Eigen::VectorXd& /*x*/, double scale,
                                    const SparsePattern& pattern, SparseMatrix& K) const {
   double* values = K.valuePtr();
-  forEachTetColoured(pattern, static_cast<int>(tets_.size()), [&](int e) {
+  forEachTetByRows(pattern, static_cast<int>(tets_.size()), [&](int e, TetRows rows) {
     const std::array<int, 48>& offsets = pattern.tetOffsets(e);
-    for (int p = 0; p < 4; ++p)
+    for (int p = 0; p < 4; ++p) {
+      if (!(rows & (1u << p))) continue;
       for (int q = 0; q < 4; ++q) {
         const Eigen::Matrix3d& block = blocks_[e][kBlockOf[p][q]];  // K_qp = K_pq^T
         for (int i = 0; i < 3; ++i) {
@@ -66,6 +67,7 @@ void TensorMassModel::addStiffness(const Eigen::VectorXd& /*x*/, double scale,
           for (int j = 0; j < 3; ++j) row[j] += scale * (p <= q ? block(i, j) : block(j, i));
         }
       }
+    }
   });
 }
 

@@ -1,39 +1,51 @@
 #include "tissue_trainer/core/solve/sparse_pattern.h"
 
 #include <algorithm>
+#include <mutex>
 
 namespace tt {
 namespace {
 
-// Greedy colouring in tet order: each tet takes the smallest colour none of the tets at its
-// nodes has yet. Returns the colour of every tet.
-std::vector<int> colourTets(int numNodes, const std::vector<Tet>& tets, int& colours) {
-  std::vector<std::vector<int>> tetsAt(numNodes);
-  for (size_t e = 0; e < tets.size(); ++e)
-    for (int a : tets[e]) tetsAt[a].push_back(static_cast<int>(e));
-  std::vector<int> colour(tets.size(), -1);
-  std::vector<int> usedBy;  // usedBy[c] == e: colour c is taken by a neighbour of tet e
-  colours = 0;
-  for (size_t e = 0; e < tets.size(); ++e) {
-    for (int a : tets[e])
-      for (int other : tetsAt[a])
-        if (colour[other] >= 0) usedBy[colour[other]] = static_cast<int>(e);
-    int c = 0;
-    while (c < colours && usedBy[c] == static_cast<int>(e)) ++c;
-    if (c == colours) {
-      ++colours;
-      usedBy.push_back(-1);
-    }
-    colour[e] = c;
+// The nodes in breadth-first order, component by component, each component from a peripheral
+// node (the last one reached from its lowest-numbered node), as for Cuthill-McKee.
+std::vector<int> breadthFirstOrder(const std::vector<std::vector<int>>& neighbours) {
+  const int count = static_cast<int>(neighbours.size());
+  std::vector<int> order, trial;
+  order.reserve(count);
+  std::vector<int> mark(count, -1);
+  auto sweep = [&](int start, int stamp, std::vector<int>& out) {
+    size_t head = out.size();
+    out.push_back(start);
+    mark[start] = stamp;
+    for (; head < out.size(); ++head)
+      for (int b : neighbours[out[head]])
+        if (mark[b] != stamp) {
+          mark[b] = stamp;
+          out.push_back(b);
+        }
+  };
+  for (int start = 0, component = 0; start < count; ++start) {
+    if (mark[start] != -1) continue;
+    trial.clear();
+    sweep(start, 2 * component, trial);
+    sweep(trial.back(), 2 * component + 1, order);
+    ++component;
   }
-  return colour;
+  return order;
 }
 
 }  // namespace
 
+struct SparsePattern::OwnershipCache {
+  std::mutex mutex;
+  std::vector<std::unique_ptr<RowOwnership>> byParts;
+};
+
+SparsePattern::SparsePattern() : ownership_(std::make_shared<OwnershipCache>()) {}
+
 SparsePattern::SparsePattern(int numNodes, const std::vector<Tet>& tets,
                              const std::vector<std::array<int, 2>>& extraPairs)
-    : numNodes_(numNodes) {
+    : numNodes_(numNodes), tets_(tets), ownership_(std::make_shared<OwnershipCache>()) {
   std::vector<std::vector<int>> neighbours(numNodes);
   auto link = [&](int a, int b) {
     neighbours[a].push_back(b);
@@ -74,14 +86,7 @@ SparsePattern::SparsePattern(int numNodes, const std::vector<Tet>& tets,
           tetOffsets_[e][(la * 4 + lb) * 3 + i] = static_cast<int>(pos - inner);
         }
 
-  int colours = 0;
-  const std::vector<int> colour = colourTets(numNodes, tets, colours);
-  colourStarts_.assign(colours + 1, 0);
-  for (int c : colour) ++colourStarts_[c + 1];
-  for (int c = 0; c < colours; ++c) colourStarts_[c + 1] += colourStarts_[c];
-  tetsByColour_.resize(tets.size());
-  std::vector<int> next(colourStarts_.begin(), colourStarts_.end() - 1);
-  for (size_t e = 0; e < tets.size(); ++e) tetsByColour_[next[colour[e]]++] = static_cast<int>(e);
+  breadthFirstOrder_ = breadthFirstOrder(neighbours);
 }
 
 SparseMatrix SparsePattern::zeroMatrix() const {
@@ -90,15 +95,56 @@ SparseMatrix SparsePattern::zeroMatrix() const {
   return K;
 }
 
-void SparsePattern::addTetBlock(SparseMatrix& K, int tet, const Matrix12d& Ke) const {
+void SparsePattern::addTetBlock(SparseMatrix& K, int tet, const Matrix12d& Ke,
+                                TetRows rows) const {
   double* values = K.valuePtr();
   const std::array<int, 48>& offsets = tetOffsets_[tet];
-  for (int la = 0; la < 4; ++la)
+  for (int la = 0; la < 4; ++la) {
+    if (!(rows & (1u << la))) continue;
     for (int lb = 0; lb < 4; ++lb)
       for (int i = 0; i < 3; ++i) {
         double* row = values + offsets[(la * 4 + lb) * 3 + i];
         for (int j = 0; j < 3; ++j) row[j] += Ke(3 * la + i, 3 * lb + j);
       }
+  }
+}
+
+const RowOwnership& SparsePattern::rowOwnership(int parts) const {
+  parts = std::max(parts, 1);
+  std::lock_guard<std::mutex> lock(ownership_->mutex);
+  auto& byParts = ownership_->byParts;
+  if (static_cast<int>(byParts.size()) <= parts) byParts.resize(parts + 1);
+  if (byParts[parts]) return *byParts[parts];
+
+  // Bands of the breadth-first order holding equal shares of the tets (counted at each node).
+  std::vector<long long> weight(numNodes_, 1);
+  for (const Tet& t : tets_)
+    for (int a : t) ++weight[a];
+  long long total = 0;
+  for (long long w : weight) total += w;
+  std::vector<int> owner(numNodes_, 0);
+  long long before = 0;
+  for (int node : breadthFirstOrder_) {
+    owner[node] = static_cast<int>(std::min<long long>(parts - 1, before * parts / total));
+    before += weight[node];
+  }
+
+  auto ownership = std::make_unique<RowOwnership>();
+  ownership->tets.resize(parts);
+  ownership->rows.resize(parts);
+  for (int e = 0; e < numTets(); ++e) {
+    for (int la = 0; la < 4; ++la) {
+      const int part = owner[tets_[e][la]];
+      TetRows rows = 0;
+      for (int lb = 0; lb < 4; ++lb)
+        if (owner[tets_[e][lb]] == part) rows |= static_cast<TetRows>(1u << lb);
+      if (rows & ((1u << la) - 1)) continue;  // an earlier local node listed this part already
+      ownership->tets[part].push_back(e);
+      ownership->rows[part].push_back(rows);
+    }
+  }
+  byParts[parts] = std::move(ownership);
+  return *byParts[parts];
 }
 
 void SparsePattern::addNodeBlock(SparseMatrix& K, int a, int b,

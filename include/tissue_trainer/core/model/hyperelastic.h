@@ -75,8 +75,8 @@ class HyperelasticModel final : public ForceModel {
   bool hasStiffness() const override { return true; }
   void addStiffness(const Eigen::VectorXd& x, double scale, const SparsePattern& pattern,
                     SparseMatrix& K) const override {
-    forEachTetColoured(pattern, static_cast<int>(tets_.nodes.size()), [&](int e) {
-      pattern.addTetBlock(K, e, scale * elementStiffness(tets_, x, e));
+    forEachTetByRows(pattern, static_cast<int>(tets_.nodes.size()), [&](int e, TetRows rows) {
+      pattern.addTetBlock(K, e, scale * elementStiffness(tets_, x, e), rows);
     });
     for (int e = 0; e < static_cast<int>(hexes_.nodes.size()); ++e) {
       const auto Ke = elementStiffness(hexes_, x, e);

@@ -141,8 +141,10 @@ inline void stvkTetStiffness(const Matrix34d& xe, const StvkTet& t, Matrix12d& K
 
 // K += scale * Ke of the tet at positions xe, straight into K's values through the tet's
 // offsets in the pattern (the blocks of stvkTetStiffness, each computed once).
+// Adds the rows of the local nodes in `rows` (all by default) of -scale dF/dx into K's values.
 inline void addStvkTetStiffness(const Matrix34d& xe, const StvkTet& t, double scale,
-                                const std::array<int, 48>& offsets, double* values) {
+                                const std::array<int, 48>& offsets, double* values,
+                                TetRows rows = kAllTetRows) {
   const Eigen::Matrix3d F = tetDeformationGradient(xe, t.grad);
   const Eigen::Matrix3d S = stvkSecondPiola(greenStrain(F), t);
   Matrix34d H;
@@ -162,11 +164,12 @@ inline void addStvkTetStiffness(const Matrix34d& xe, const StvkTet& t, double sc
       block.noalias() += (lambda * H.col(p)) * H.col(q).transpose();
       block.noalias() += (mu * H.col(q)) * H.col(p).transpose();
       block.diagonal().array() += v * t.grad.col(q).dot(SG.col(p));
-      for (int i = 0; i < 3; ++i) {
-        double* row = values + offsets[(p * 4 + q) * 3 + i];
-        for (int j = 0; j < 3; ++j) row[j] += block(i, j);
-      }
-      if (q == p) continue;
+      if (rows & (1u << p))
+        for (int i = 0; i < 3; ++i) {
+          double* row = values + offsets[(p * 4 + q) * 3 + i];
+          for (int j = 0; j < 3; ++j) row[j] += block(i, j);
+        }
+      if (q == p || !(rows & (1u << q))) continue;
       for (int i = 0; i < 3; ++i) {
         double* row = values + offsets[(q * 4 + p) * 3 + i];
         for (int j = 0; j < 3; ++j) row[j] += block(j, i);
@@ -193,8 +196,9 @@ inline void addStvkStiffness(const Eigen::VectorXd& x, double scale, const std::
                              const std::vector<StvkTet>& data, const SparsePattern& pattern,
                              SparseMatrix& K) {
   double* values = K.valuePtr();
-  forEachTetColoured(pattern, static_cast<int>(tets.size()), [&](int e) {
-    addStvkTetStiffness(gatherTet(x, tets[e]), data[e], scale, pattern.tetOffsets(e), values);
+  forEachTetByRows(pattern, static_cast<int>(tets.size()), [&](int e, TetRows rows) {
+    addStvkTetStiffness(gatherTet(x, tets[e]), data[e], scale, pattern.tetOffsets(e), values,
+                        rows);
   });
 }
 

@@ -6,10 +6,13 @@
 //               afterwards in thread order. Streaming the per-tet data in mesh order keeps the
 //               cheap force kernel fast, and the extra work (zero + add of 3n doubles per extra
 //               thread) is small beside the tets.
-//   stiffness : a per-thread copy of K would cost more than the assembly itself, so the tets
-//               are coloured (SparsePattern: no two tets of a colour share a node) and the
-//               colours assembled one after another, each split across the threads. Every
-//               entry of K then receives its terms in the same order for any thread count.
+//   stiffness : a per-thread copy of K would cost more than the assembly itself, so each
+//               thread owns a band of rows (SparsePattern::rowOwnership) and writes only
+//               those, visiting the tets at its nodes in mesh order; the tets across a band
+//               border are evaluated twice. Every entry of K receives its terms in the same
+//               order for any thread count, so K is bitwise that of one thread. (A colouring of
+//               the tets, with a barrier per colour, was slower on two threads than one
+//               thread on TetGen livers: the tets of a colour lie all over the mesh.)
 // Per-tet work is a callable inlined into the loop (no virtual call, no allocation).
 #include <Eigen/Core>
 #include <array>
@@ -94,18 +97,21 @@ double sumOverTets(int count, const TetValue& tetValue) {
   return sum;
 }
 
-// Calls addTet(e) for every tet: in mesh order on one thread, by colour on several.
-// addTet(e) may add into the rows of the nodes of tet e only.
+// Calls addTet(e, rows) for every tet, where addTet adds into the rows of the local nodes of
+// tet e that `rows` has (TetRows): once with kAllTetRows per tet in mesh order on one thread;
+// on several, each tet once for every thread owning one of its nodes, with that thread's rows.
 template <class AddTet>
-void forEachTetColoured(const SparsePattern& pattern, int count, const AddTet& addTet) {
+void forEachTetByRows(const SparsePattern& pattern, int count, const AddTet& addTet) {
   const int parts = threadCount();
-  if (parts == 1 || pattern.tetsByColour().size() != static_cast<size_t>(count)) {
-    for (int e = 0; e < count; ++e) addTet(e);
+  if (parts == 1 || pattern.numTets() != count) {
+    for (int e = 0; e < count; ++e) addTet(e, kAllTetRows);
     return;
   }
-  const std::vector<int>& order = pattern.tetsByColour();
-  parallelGroups(parts, pattern.colourStarts(), [&](int, int begin, int end) {
-    for (int i = begin; i < end; ++i) addTet(order[i]);
+  const RowOwnership& ownership = pattern.rowOwnership(parts);
+  parallelRanges(parts, parts, [&](int part, int, int) {
+    const std::vector<int>& tets = ownership.tets[part];
+    const std::vector<TetRows>& rows = ownership.rows[part];
+    for (size_t i = 0; i < tets.size(); ++i) addTet(tets[i], rows[i]);
   });
 }
 

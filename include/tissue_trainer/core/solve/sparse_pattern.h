@@ -4,6 +4,8 @@
 // so assembly does no search and no allocation.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "tissue_trainer/core/mesh/mesh.h"
@@ -13,9 +15,22 @@ namespace tt {
 using SparseMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
 using Matrix12d = Eigen::Matrix<double, 12, 12>;
 
+// Which local nodes of a tet a part of the threaded assembly writes the rows of: bit la is set
+// for local node la (kAllTetRows: all four, as on one thread).
+using TetRows = std::uint8_t;
+constexpr TetRows kAllTetRows = 0xF;
+
+// The threaded assembly's split of the rows ("owner computes"): every node belongs to one
+// part; a part visits, in increasing index order, the tets with a node of its own and writes
+// only its own nodes' rows. A tet with nodes of two parts is evaluated by both.
+struct RowOwnership {
+  std::vector<std::vector<int>> tets;      // per part: the tets it visits
+  std::vector<std::vector<TetRows>> rows;  // per part, per tet it visits: the rows it writes
+};
+
 class SparsePattern {
  public:
-  SparsePattern() = default;
+  SparsePattern();
   // Pattern of all node pairs sharing a tet, plus extra node pairs (e.g. springs).
   SparsePattern(int numNodes, const std::vector<Tet>& tets,
                 const std::vector<std::array<int, 2>>& extraPairs = {});
@@ -23,8 +38,9 @@ class SparsePattern {
   // A zero matrix with this pattern (compressed).
   SparseMatrix zeroMatrix() const;
 
-  // K(3a+i, 3b+j) += Ke(3la+i, 3lb+j) for the local nodes la, lb of tet t.
-  void addTetBlock(SparseMatrix& K, int tet, const Matrix12d& Ke) const;
+  // K(3a+i, 3b+j) += Ke(3la+i, 3lb+j) for the local nodes la, lb of tet t (la in `rows`).
+  void addTetBlock(SparseMatrix& K, int tet, const Matrix12d& Ke,
+                   TetRows rows = kAllTetRows) const;
   // K(3a+i, 3b+j) += block(i, j); a binary search per row (for non-tet elements).
   void addNodeBlock(SparseMatrix& K, int a, int b, const Eigen::Matrix3d& block) const;
 
@@ -34,24 +50,30 @@ class SparsePattern {
   // value offset of K(3a+i, 3b) (the three entries j = 0..2 follow it).
   const std::array<int, 48>& tetOffsets(int tet) const { return tetOffsets_[tet]; }
 
-  // A greedy colouring of the tets: no two tets of one colour share a node, so the tets of a
-  // colour can be assembled concurrently. The tets of colour c are
-  // tetsByColour()[colourStarts()[c] .. colourStarts()[c + 1]), in increasing index order.
-  const std::vector<int>& tetsByColour() const { return tetsByColour_; }
-  const std::vector<int>& colourStarts() const { return colourStarts_; }
+  int numTets() const { return static_cast<int>(tets_.size()); }
+
+  // The rows split into `parts` bands of nodes: consecutive runs of a breadth-first order of
+  // the nodes from a peripheral one (level sets of the mesh graph, so a band borders only the
+  // bands before and after it, across about one layer of tets), balanced by the tets at the
+  // nodes. Every entry of K then receives its terms in the same order as on one thread.
+  // Computed on first use for each part count and kept (safe to call from several threads).
+  const RowOwnership& rowOwnership(int parts) const;
 
  private:
+  struct OwnershipCache;
   int numNodes_ = 0;
   SparseMatrix pattern_;
+  std::vector<Tet> tets_;
   // Per tet, per (la, lb) pair, per row i: the offset of entry (3a+i, 3b) in the value array.
   std::vector<std::array<int, 48>> tetOffsets_;
-  std::vector<int> tetsByColour_, colourStarts_;
+  std::vector<int> breadthFirstOrder_;           // every node once, component by component
+  std::shared_ptr<OwnershipCache> ownership_;   // shared by copies (same topology)
 };
 
 // The node pairs (a < b) of the hexes, for a pattern that covers them as extra pairs.
 std::vector<std::array<int, 2>> hexNodePairs(const std::vector<Hex>& hexes);
 
-// The pattern of a mesh: its tets (with offsets and colours), its hexes and `extraPairs`.
+// The pattern of a mesh: its tets (with offsets), its hexes and `extraPairs`.
 SparsePattern meshPattern(const Mesh& mesh, std::vector<std::array<int, 2>> extraPairs = {});
 
 }  // namespace tt
