@@ -35,6 +35,18 @@ if(NOT TT_CHOLMOD_INCLUDE_DIR OR NOT TT_CHOLMOD_LIBRARY)
 endif()
 target_include_directories(tissue_trainer_core PRIVATE "${TT_CHOLMOD_INCLUDE_DIR}")
 target_link_libraries(tissue_trainer_core PRIVATE "${TT_CHOLMOD_LIBRARY}")
+# hypre's BoomerAMG (Debian's libhypre-dev: no CMake package of its own) for the algebraic
+# multigrid preconditioner of the implicit solver. Debian builds hypre with MPI, so its
+# headers include mpi.h and its library needs MPI initialised (mpi-default-dev: OpenMPI).
+find_path(TT_HYPRE_INCLUDE_DIR HYPRE.h PATH_SUFFIXES hypre)
+find_library(TT_HYPRE_LIBRARY HYPRE)
+set(MPI_CXX_SKIP_MPICXX ON)  # the C interface only
+find_package(MPI COMPONENTS CXX)
+if(NOT TT_HYPRE_INCLUDE_DIR OR NOT TT_HYPRE_LIBRARY OR NOT MPI_CXX_FOUND)
+  message(FATAL_ERROR "hypre or MPI not found: install Debian's libhypre-dev and mpi-default-dev")
+endif()
+target_include_directories(tissue_trainer_core PRIVATE "${TT_HYPRE_INCLUDE_DIR}")
+target_link_libraries(tissue_trainer_core PRIVATE "${TT_HYPRE_LIBRARY}" MPI::MPI_CXX)
 if(OpenMP_CXX_FOUND)
   target_link_libraries(tissue_trainer_core PRIVATE OpenMP::OpenMP_CXX)
   target_compile_definitions(tissue_trainer_core PRIVATE TT_HAVE_OPENMP)

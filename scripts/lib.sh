@@ -20,6 +20,8 @@ TT_PACKAGES=(
   # under it (twice as fast as the reference BLAS). The threaded build, because only it may be
   # called from two threads at once; the core keeps it to the calling thread.
   libsuitesparse-dev libopenblas0-pthread
+  # hypre's BoomerAMG, the algebraic multigrid preconditioner, and the MPI it is built with.
+  libhypre-dev mpi-default-dev
   # The two-host test's network namespaces (ip netns, veth).
   iproute2
   # Python message modules, so that rostopic echo, rosbag and rospy read every topic.

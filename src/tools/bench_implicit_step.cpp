@@ -5,14 +5,17 @@
 // through the real contact (TissueContact, Bullet). Each row is one linear-solver set-up of
 // backward Euler (one linearised step, h = 10 ms): Jacobi-PCG, or CG preconditioned by a
 // Cholesky factor (CHOLMOD or Eigen's SimplicialLDLT) refactorised in the background when the
-// iterations pass refactor_iterations, on one or two threads, at a PCG tolerance.
+// iterations pass refactor_iterations, or by one V-cycle of hypre's BoomerAMG hierarchy (set up
+// again, synchronously, by the same rule), on one or two threads, at a PCG tolerance.
 //
 // For every timed step: the wall time of the step (force, assembly, solve) and of the contact
-// query before it, the PCG iterations, the achieved relative residual, and the step's error
+// query before it, the PCG iterations, the achieved relative residual, the factors or AMG
+// hierarchies built over the row (`fact`, the first one included), and the step's error
 // against the same step solved to 1e-10 from the same state: max |x - x_ref| / max |x_ref -
 // x_start|. Each size starts from the same state (the liver at rest, then the tool pressed in
 // for 10 steps). Also the
-// time of one factorisation of the system matrix at rest, per backend.
+// time of one factorisation of the system matrix at the start state, per backend, and of one
+// AMG set-up.
 //   bench_implicit_step [SIZES=3000,10000,50000,100000] [CSV|-] [ROWS]
 // SIZES: target tet counts; ROWS: the set-ups to run, as 1-based row numbers (default all).
 // TT_BENCH_TRACE=1 prints every step (time, iterations, factors, contact points).
@@ -192,13 +195,13 @@ class Bench {
                          (xRef - before.x).lpNorm<Eigen::Infinity>());
     }
     r.factorizations = integrator.diagnostics().factorizations;
-    r.refused = integrator.diagnostics().notPositiveDefinite;
+    r.refused = integrator.diagnostics().notPositiveDefinite + integrator.diagnostics().amgFailures;
     setThreadCount(1);
     return r;
   }
 
-  // One factorisation of the step's matrix M + h c - h^2 K at the start state (ms).
-  double factorMs(CholeskyBackend backend) {
+  // One build of `M` from the step's matrix M + h c - h^2 K at the start state (ms).
+  double buildMs(RebuiltPreconditioner& M) {
     Scene scene = loadScene(scenePath_);
     System& system = scene.system;
     auto contact = makeContact(scene);
@@ -214,9 +217,8 @@ class Bench {
       const SparseMatrix At = A.transpose();
       std::printf("    asymmetry |A - A^T| / |A| = %.3e\n", (A - At).norm() / A.norm());
     }
-    CholeskyPreconditioner factor(false, backend);
     const auto t0 = Clock::now();
-    const bool ok = factor.factorNow(A);
+    const bool ok = M.rebuildNow(A);
     const double ms = 1e3 * seconds(t0);
     return ok ? ms : NAN;
   }
@@ -300,10 +302,11 @@ int runAll(int argc, char** argv) {
                       "step_ms_p99,step_ms_max,contact_ms_p50,cg_iterations_p50,cg_iterations_max,"
                       "residual_p50,factorizations,refused,failed,error_p50,error_max\n");
   std::printf("bench_implicit_step: liver_palpation.yaml on TetGen refinements of its liver, a 6 mm "
-              "sphere pressed 6 mm in; backward_euler h = 10 ms; %d hardware threads; CHOLMOD "
-              "and Eigen SimplicialLDLT\n", hardwareThreads());
+              "sphere pressed 6 mm in; backward_euler h = 10 ms; %d hardware threads; CHOLMOD, "
+              "Eigen SimplicialLDLT and hypre BoomerAMG\n", hardwareThreads());
   const auto cholmod = CholeskyBackend::kCholmod, simplicial = CholeskyBackend::kEigenSimplicial;
-  const auto jacobi = Preconditioning::kJacobi, cholesky = Preconditioning::kCholesky;
+  const auto jacobi = Preconditioning::kJacobi, cholesky = Preconditioning::kCholesky,
+             amg = Preconditioning::kAmg;
   const std::vector<Setup> setups = {
       {"jacobi, scenes before", jacobi, cholmod, 1, 1e-8},
       {"jacobi", jacobi, cholmod, 1, 1e-4},
@@ -315,6 +318,8 @@ int runAll(int argc, char** argv) {
       {"cholesky", cholesky, simplicial, 1, 1e-3},
       {"cholesky, refactor > 5", cholesky, cholmod, 1, 1e-3, 5},
       {"cholesky, never refactor", cholesky, cholmod, 1, 1e-3, 1000000},
+      {"amg", amg, cholmod, 1, 1e-3},
+      {"amg", amg, cholmod, 2, 1e-3},
   };
   std::vector<char> wanted(setups.size(), argc <= 3);
   if (argc > 3) {
@@ -337,10 +342,16 @@ int runAll(int argc, char** argv) {
     const int steps = target <= 10000 ? 60 : target <= 50000 ? 20 : 10;
     Bench bench(sceneWithMesh(mesh), steps);
     bench.prepare();
+    CholeskyPreconditioner cholmodFactor(false, cholmod), simplicialFactor(false, simplicial);
+    AmgPreconditioner warmUp, boomerAmg;  // the first set-up also initialises MPI
+    bench.buildMs(warmUp);
+    const double cholmodMs = bench.buildMs(cholmodFactor);
+    const double simplicialMs = bench.buildMs(simplicialFactor);
+    const double amgMs = bench.buildMs(boomerAmg);
     std::printf("\nliver %d tets, %d DOFs, %zu contact points, %d timed steps per row; one "
-                "factorisation: CHOLMOD %.0f ms, SimplicialLDLT %.0f ms\n",
-                bench.tets(), bench.dofs(), bench.contactPoints(), steps,
-                bench.factorMs(cholmod), bench.factorMs(simplicial));
+                "factorisation: CHOLMOD %.0f ms, SimplicialLDLT %.0f ms; one AMG set-up %.0f ms\n",
+                bench.tets(), bench.dofs(), bench.contactPoints(), steps, cholmodMs,
+                simplicialMs, amgMs);
     for (int threads : {1, 2}) {
       const auto [forceMs, assemblyMs] = bench.forceAndAssemblyMs(threads);
       std::printf("  %d thread(s): force %.2f ms, stiffness assembly %.2f ms\n", threads,
@@ -354,7 +365,12 @@ int runAll(int argc, char** argv) {
       if (!wanted[row]) continue;
       if (setup.preconditioner == jacobi && setup.tolerance < 1e-6 && target > 50000) continue;
       const Result r = bench.run(setup);
-      const char* backend = setup.preconditioner == jacobi ? "-" : backendName(setup.backend);
+      const char* backend = setup.preconditioner == cholesky ? backendName(setup.backend)
+                            : setup.preconditioner == amg    ? "boomeramg"
+                                                             : "-";
+      const char* preconditioner = setup.preconditioner == cholesky ? "cholesky"
+                                   : setup.preconditioner == amg    ? "amg"
+                                                                    : "jacobi";
       std::printf("  %-22s %-14s %3d %7.0e %8.2f %8.2f %8.2f %8.2f %6.0f %6.0f %9.1e %4d %9.1e "
                   "%9.1e%s\n", setup.label, backend, setup.threads, setup.tolerance,
                   quantile(r.stepMs, 0.5), quantile(r.stepMs, 0.99), quantile(r.stepMs, 1.0),
@@ -366,7 +382,7 @@ int runAll(int argc, char** argv) {
       if (csv)
         std::fprintf(csv, "%d,%d,%s,%s,%s,%d,%g,%zu,%.4f,%.4f,%.4f,%.4f,%.0f,%.0f,%.3e,%d,%d,%d,"
                           "%.3e,%.3e\n", bench.tets(), bench.dofs(), csvField(setup.label).c_str(),
-                     setup.preconditioner == jacobi ? "jacobi" : "cholesky", backend,
+                     preconditioner, backend,
                      setup.threads, setup.tolerance, r.stepMs.size(), quantile(r.stepMs, 0.5),
                      quantile(r.stepMs, 0.99), quantile(r.stepMs, 1.0),
                      quantile(r.contactMs, 0.5), quantile(r.iterations, 0.5),

@@ -66,45 +66,53 @@ const Preconditioner& BackwardEulerIntegrator::choosePreconditioner() {
   diagonalValues_.resize(A_.rows());
   for (int row = 0; row < A_.rows(); ++row) diagonalValues_[row] = A_.valuePtr()[diagonal_[row]];
   jacobi_.setDiagonal(diagonalValues_);
-  if (!cholesky_) return jacobi_;
-  if (cholesky_->ready()) return *cholesky_;
+  if (!rebuilt_) return jacobi_;
+  if (rebuilt_->ready()) return *rebuilt_;
   ++diagnostics_.jacobiFallbacks;
   return jacobi_;
 }
 
 void BackwardEulerIntegrator::ensureFactor(const System& system, double h) {
-  if (params.preconditioner != BackwardEulerParams::Preconditioning::kCholesky) return;
-  if (!cholesky_) {
-    cholesky_ = std::make_unique<CholeskyPreconditioner>(params.backgroundRefactor,
-                                                         params.choleskyBackend);
+  using Preconditioning = BackwardEulerParams::Preconditioning;
+  if (params.preconditioner == Preconditioning::kJacobi) return;
+  if (!rebuilt_) {
+    if (params.preconditioner == Preconditioning::kAmg)
+      rebuilt_ = std::make_unique<AmgPreconditioner>(params.amg);
+    else
+      rebuilt_ = std::make_unique<CholeskyPreconditioner>(params.backgroundRefactor,
+                                                          params.choleskyBackend);
     solvesSinceRefusal_ = kRefactorRetrySolves;
   }
-  if (cholesky_->ready() || cholesky_->busy() || solvesSinceRefusal_ < kRefactorRetrySolves)
+  if (rebuilt_->ready() || rebuilt_->busy() || solvesSinceRefusal_ < kRefactorRetrySolves)
     return;
-  if (!cholesky_->factorNow(A_)) {
-    // Not positive definite here (a stiffness softened by compression): the matrix of the
-    // rest shape is, and stays close enough to precondition the steps near it.
+  if (!rebuilt_->rebuildNow(A_)) {
+    // Refused here (Cholesky: not positive definite, a stiffness softened by compression; AMG:
+    // a hypre error): the matrix of the rest shape is positive definite, and stays close
+    // enough to precondition the steps near it.
     const Eigen::Map<const Eigen::VectorXd> rest(system.mesh.rest.data(),
                                                  system.mesh.rest.size());
     buildMatrix(system, h, rest, Eigen::VectorXd::Zero(rest.size()), restA_);
     system.constrainMatrix(restA_);
-    cholesky_->factorNow(restA_);
+    rebuilt_->rebuildNow(restA_);
   }
   noteRefusals();
 }
 
 void BackwardEulerIntegrator::noteRefusals() {
-  if (cholesky_->notPositiveDefinite() > diagnostics_.notPositiveDefinite) solvesSinceRefusal_ = 0;
-  diagnostics_.notPositiveDefinite = cholesky_->notPositiveDefinite();
-  diagnostics_.factorizations = cholesky_->factorizations();
+  const auto* amg = dynamic_cast<const AmgPreconditioner*>(rebuilt_.get());
+  int& refused = amg ? diagnostics_.amgFailures : diagnostics_.notPositiveDefinite;
+  if (rebuilt_->refusals() > refused) solvesSinceRefusal_ = 0;
+  refused = rebuilt_->refusals();
+  diagnostics_.factorizations = rebuilt_->builds();
+  if (amg && !amg->lastError().empty()) diagnostics_.amgError = amg->lastError();
 }
 
 void BackwardEulerIntegrator::considerRefactor(int iterations, bool lostCurvature) {
-  if (!cholesky_) return;
+  if (!rebuilt_) return;
   ++solvesSinceRefusal_;
   const bool slow = iterations > params.refactorIterations || lostCurvature;
-  if (slow && !cholesky_->busy() && solvesSinceRefusal_ >= kRefactorRetrySolves)
-    cholesky_->refactor(A_);
+  if (slow && !rebuilt_->busy() && solvesSinceRefusal_ >= kRefactorRetrySolves)
+    rebuilt_->rebuild(A_);
   noteRefusals();
 }
 
@@ -157,7 +165,7 @@ StepAttempt BackwardEulerIntegrator::attempt(System& system, const StepContext& 
     out.failure = std::move(why);
     return out;
   };
-  if (cholesky_) cholesky_->update();  // a factor finished in the background takes over here
+  if (rebuilt_) rebuilt_->update();  // a factor finished in the background takes over here
   const State& s = system.state;
   const double h = step.h, endTime = step.end;
   const int linearBefore = report.linearIterations;

@@ -15,10 +15,11 @@ void registerBackwardEuler(Registry& registry) {
             {"newton_tolerance", "relative residual of the implicit equations (default 1e-6)"},
             {"require_convergence", "true: an unconverged Newton loop fails the frame"},
             {"warm_start", "start the linear solve from the previous solution (default true)"},
-            {"preconditioner", "of the linear solve: jacobi (default) or cholesky (a sparse "
-                               "Cholesky factor of a recent system matrix)"},
-            {"refactor_iterations", "cholesky: a solve needing more iterations starts a new "
-                                    "factor (integer >= 1, default 15)"},
+            {"preconditioner", "of the linear solve: jacobi (default), cholesky (a sparse "
+                               "Cholesky factor of a recent system matrix) or amg (hypre "
+                               "BoomerAMG hierarchy of one, a V-cycle per iteration)"},
+            {"refactor_iterations", "cholesky, amg: a solve needing more iterations starts a "
+                                    "new factor or hierarchy (integer >= 1, default 15)"},
             {"background_refactor", "cholesky: factorise on a thread of its own, the new factor "
                                     "taking over at a later step (default true)"}};
   e.make = [](const YamlEntry& spec) -> std::unique_ptr<Integrator> {
@@ -30,9 +31,13 @@ void registerBackwardEuler(Registry& registry) {
     p.newtonTolerance = spec.positive("newton_tolerance", p.newtonTolerance);
     p.requireConvergence = spec.boolean("require_convergence", p.requireConvergence);
     p.warmStart = spec.boolean("warm_start", p.warmStart);
-    if (spec.has("preconditioner") &&
-        spec["preconditioner"].choice({"jacobi", "cholesky"}) == "cholesky")
-      p.preconditioner = BackwardEulerParams::Preconditioning::kCholesky;
+    using Preconditioning = BackwardEulerParams::Preconditioning;
+    if (spec.has("preconditioner")) {
+      const std::string name = spec["preconditioner"].choice({"jacobi", "cholesky", "amg"});
+      p.preconditioner = name == "cholesky" ? Preconditioning::kCholesky
+                         : name == "amg"    ? Preconditioning::kAmg
+                                            : Preconditioning::kJacobi;
+    }
     p.refactorIterations = spec.integerAtLeast("refactor_iterations", 1, p.refactorIterations);
     p.backgroundRefactor = spec.boolean("background_refactor", p.backgroundRefactor);
     return std::make_unique<BackwardEulerIntegrator>(p);

@@ -26,9 +26,19 @@
 // takes over at the start of a later step. A matrix that is not positive definite keeps the
 // old factor in use (Jacobi while there is none), and the next attempt waits
 // kRefactorRetrySolves solves.
+//
+// Or an algebraic multigrid hierarchy (solve/amg_preconditioner.h, hypre's BoomerAMG) of an
+// earlier system matrix, one V-cycle per iteration, kept and rebuilt by the same rules; its
+// set-up always runs synchronously, right after the slow solve (backgroundRefactor does not
+// apply), and it does not refuse an indefinite matrix (CG meets the non-positive curvature
+// instead, and the solve is redone with BiCGSTAB as above). A hypre error counts as a refusal
+// (amgFailures, amgError) and the solves use Jacobi until a set-up succeeds.
 #include <Eigen/Core>
+#include <memory>
+#include <string>
 
 #include "tissue_trainer/core/integrate/stepped_integrator.h"
+#include "tissue_trainer/core/solve/amg_preconditioner.h"
 #include "tissue_trainer/core/solve/cholesky_preconditioner.h"
 #include "tissue_trainer/core/solve/krylov.h"
 
@@ -42,11 +52,12 @@ struct BackwardEulerParams {
   double newtonTolerance = 1e-6;  // relative residual of the implicit equations
   bool requireConvergence = false;  // Newton not converged: restore the frame, ok = false
   bool warmStart = true;
-  enum class Preconditioning { kJacobi, kCholesky };
+  enum class Preconditioning { kJacobi, kCholesky, kAmg };
   Preconditioning preconditioner = Preconditioning::kJacobi;
-  int refactorIterations = 15;    // cholesky: a solve that needs more starts a new factor
+  int refactorIterations = 15;    // cholesky, amg: a solve that needs more starts a new one
   bool backgroundRefactor = true;  // cholesky: factorise on a thread of its own
   CholeskyBackend choleskyBackend = CholeskyBackend::kCholmod;
+  AmgSettings amg;                // amg: BoomerAMG's options
 };
 
 // Counts over the integrator's life (not per frame).
@@ -56,8 +67,10 @@ struct BackwardEulerDiagnostics {
   int unconvergedNewton = 0;     // steps whose Newton loop hit newtonIterations (> 1)
   double lastRelativeResidual = 0.0;  // |b - A dv| / |b| reached by the last linear solve
   int lastIterations = 0;             // of the last linear solve
-  int factorizations = 0;             // Cholesky factors installed
+  int factorizations = 0;             // Cholesky factors installed or AMG hierarchies set up
   int notPositiveDefinite = 0;        // matrices the Cholesky factorisation refused
+  int amgFailures = 0;                // AMG set-ups and V-cycles that hypre failed
+  std::string amgError;               // what hypre said the last time it failed
   int jacobiFallbacks = 0;            // solves preconditioned by Jacobi for want of a factor
 };
 
@@ -85,14 +98,15 @@ class BackwardEulerIntegrator : public SteppedIntegrator {
   // Solves A x = b (x holds the initial guess); returns the iterations used.
   int solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
   int solveUnit(const Eigen::VectorXd& b, Eigen::VectorXd& x);  // max |b_i| = 1
-  // With Cholesky and no factor installed: factors A_ now, or the rest shape's matrix when A_
-  // is not positive definite (constrained as A_ is).
+  // With Cholesky or AMG and none installed: builds it from A_ now, or from the rest shape's
+  // matrix when A_ is refused (constrained as A_ is).
   void ensureFactor(const System& system, double h);
-  // The preconditioner for A_ in this solve: the Cholesky factor when installed, else Jacobi.
+  // The preconditioner for A_ in this solve: the factor or hierarchy when installed, else
+  // Jacobi.
   const Preconditioner& choosePreconditioner();
-  // After a solve of `iterations`: starts a new factor of A_ when the solve was slow.
+  // After a solve of `iterations`: starts a new factor or hierarchy of A_ when it was slow.
   void considerRefactor(int iterations, bool lostCurvature);
-  void noteRefusals();  // copies the factor counts into diagnostics_, noting new refusals
+  void noteRefusals();  // copies the build counts into diagnostics_, noting new refusals
   int finishSolve(const SolveReport& report, int earlierIterations, bool lostCurvature);
 
   BackwardEulerDiagnostics diagnostics_;
@@ -101,7 +115,7 @@ class BackwardEulerIntegrator : public SteppedIntegrator {
   Eigen::VectorXd dv_, f_, rhs_, constrainedDv_, residual_, correction_;
   Eigen::VectorXd unitB_, guess_, diagonalValues_;
   JacobiPreconditioner jacobi_;
-  std::unique_ptr<CholeskyPreconditioner> cholesky_;  // with Preconditioning::kCholesky
+  std::unique_ptr<RebuiltPreconditioner> rebuilt_;  // with kCholesky or kAmg
   int solvesSinceRefusal_ = 0;  // since the last refused factorisation
   KrylovWorkspace krylov_;
   Eigen::VectorXd x1_, v1_, targetX_, targetV_;

@@ -23,7 +23,7 @@ enum class CholeskyBackend { kEigenSimplicial, kCholmod };
 
 const char* backendName(CholeskyBackend backend);
 
-class CholeskyPreconditioner final : public Preconditioner {
+class CholeskyPreconditioner final : public RebuiltPreconditioner {
  public:
   // background: factorisations started by refactor() run on a thread of their own.
   explicit CholeskyPreconditioner(bool background = true,
@@ -40,14 +40,19 @@ class CholeskyPreconditioner final : public Preconditioner {
   // positive definite (returns whether it did).
   bool factorNow(const SparseMatrix& A);
   // Installs a finished background factorisation. True when a new factor took over.
-  bool update();
+  bool update() override;
   // Waits for a running factorisation, then update().
   bool wait();
 
-  bool ready() const { return installed_; }  // a factor serves apply()
-  bool busy() const { return busy_; }          // a factorisation is running
+  bool ready() const override { return installed_; }  // a factor serves apply()
+  bool busy() const override { return busy_; }          // a factorisation is running
   int factorizations() const { return factorizations_; }   // installed so far
   int notPositiveDefinite() const { return refused_; }     // refused so far
+
+  bool rebuild(const SparseMatrix& A) override { return refactor(A); }
+  bool rebuildNow(const SparseMatrix& A) override { return factorNow(A); }
+  int builds() const override { return factorizations_; }
+  int refusals() const override { return refused_; }
 
   // z = L^-T D^-1 L^-1 r for the installed factor (r itself when none is installed).
   void apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const override;

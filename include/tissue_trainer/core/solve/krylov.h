@@ -38,6 +38,24 @@ class Preconditioner {
   virtual void apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const = 0;
 };
 
+// A preconditioner made from a matrix (a factor, a multigrid hierarchy) that is rebuilt from a
+// recent matrix now and then: what the implicit integrators hold to precondition a sequence
+// of slowly changing system matrices.
+class RebuiltPreconditioner : public Preconditioner {
+ public:
+  // Starts a build from A (on a thread of its own where the class can); false when none was
+  // started, or when a synchronous build was refused.
+  virtual bool rebuild(const SparseMatrix& A) = 0;
+  // Builds from A on this thread and installs the result; false when refused.
+  virtual bool rebuildNow(const SparseMatrix& A) = 0;
+  // Installs a finished background build; true when a new one took over.
+  virtual bool update() = 0;
+  virtual bool ready() const = 0;  // a build serves apply()
+  virtual bool busy() const = 0;   // a build is running
+  virtual int builds() const = 0;    // installed so far
+  virtual int refusals() const = 0;  // refused so far
+};
+
 class IdentityPreconditioner final : public Preconditioner {
  public:
   void apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const override { z = r; }
