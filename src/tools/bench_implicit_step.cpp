@@ -320,6 +320,7 @@ int runAll(int argc, char** argv) {
       {"cholesky, never refactor", cholesky, cholmod, 1, 1e-3, 1000000},
       {"amg", amg, cholmod, 1, 1e-3},
       {"amg", amg, cholmod, 2, 1e-3},
+      {"amg, refactor > 30", amg, cholmod, 1, 1e-3, 30},
   };
   std::vector<char> wanted(setups.size(), argc <= 3);
   if (argc > 3) {
