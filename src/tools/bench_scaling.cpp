@@ -1,7 +1,7 @@
 // Scaling with the mesh size: time per force evaluation (every elastic model), per explicit
 // step (Newtonian scheme) and per implicit step (linearised backward Euler, h = 10 ms, under
-// gravity, bottom fixed) of the edge_length fast model, on box grids of 6 tets per cell from
-// about 1e3 to 1e5 tets. One thread; medians of repeats; the fitted log-log slope of time
+// gravity, bottom fixed; PCG to 1e-6 with each preconditioner: the model column says which)
+// of the edge_length fast model, on box grids of 6 tets per cell from about 1e3 to 1e5 tets. One thread; medians of repeats; the fitted log-log slope of time
 // against tets per quantity. Writes DIR/scaling.csv and DIR/scaling_fits.csv.
 //   bench_scaling [--quick] [--out DIR]
 #include <cmath>
@@ -99,8 +99,10 @@ Timing explicitStepTiming(System& s, int repeats) {
 }
 
 // Each repeat is one step of the system falling under gravity (not repeated within a repeat).
-Timing implicitStepTiming(System& s, int repeats) {
+Timing implicitStepTiming(System& s, int repeats, BackwardEulerParams::Preconditioning pc) {
   BackwardEulerIntegrator be;
+  be.params.preconditioner = pc;
+  be.params.backgroundRefactor = false;  // every factorisation in the step that asks for it
   be.params.linearTolerance = 1e-6;
   be.params.linearMaxIterations = 5000;
   be.advance(s, 0.01);  // warm-up: allocations and the first solve
@@ -139,11 +141,19 @@ void measureSize(int cells, int repeats, std::vector<Sample>& out) {
   auto s = boxSystem(cells, "edge_length");
   out.push_back({"explicit_step", "edge_length", s->mesh.numTets(), s->numNodes(),
                  explicitStepTiming(*s, repeats)});
-  out.push_back({"implicit_step", "edge_length", s->mesh.numTets(), s->numNodes(),
-                 implicitStepTiming(*s, std::max(3, repeats - 2))});
-  std::printf("progress %d tets: explicit step %.3g ms, implicit step %.3g ms (%.0f PCG its)\n",
-              s->mesh.numTets(), 1e3 * out[out.size() - 2].timing.wall,
-              1e3 * out.back().timing.wall, out.back().timing.iterations);
+  std::printf("progress %d tets: explicit step %.3g ms\n", s->mesh.numTets(),
+              1e3 * out.back().timing.wall);
+  using Pc = BackwardEulerParams::Preconditioning;
+  const std::pair<const char*, Pc> preconditioners[] = {
+      {"edge_length", Pc::kJacobi}, {"edge_length_cholesky", Pc::kCholesky}, {"edge_length_amg", Pc::kAmg}};
+  for (const auto& [label, pc] : preconditioners) {
+    auto fresh = boxSystem(cells, "edge_length");
+    out.push_back({"implicit_step", label, fresh->mesh.numTets(), fresh->numNodes(),
+                   implicitStepTiming(*fresh, std::max(3, repeats - 2), pc)});
+    std::printf("progress %d tets: implicit step %s %.3g ms (%.1f PCG its)\n",
+                fresh->mesh.numTets(), label, 1e3 * out.back().timing.wall,
+                out.back().timing.iterations);
+  }
 }
 
 void writeCsv(const std::string& dir, const std::vector<Sample>& samples) {
