@@ -13,24 +13,33 @@ foreach(src ${TT_TOOL_SOURCES})
   list(APPEND TT_TOOLS ${tool})
 endforeach()
 
-# bench_bullet_peer runs Bullet's deformable bodies beside our models: it links the
-# double-precision Bullet (Debian's libBullet*-float64; FindBullet's BULLET_LIBRARIES are the
-# single-precision ones of the contact library, which this tool does not link).
-if(TARGET bench_bullet_peer)
-  find_library(TT_BULLET64_SOFTBODY BulletSoftBody-float64 REQUIRED)
-  find_library(TT_BULLET64_DYNAMICS BulletDynamics-float64 REQUIRED)
-  find_library(TT_BULLET64_COLLISION BulletCollision-float64 REQUIRED)
-  find_library(TT_BULLET64_MATH LinearMath-float64 REQUIRED)
-  find_path(TT_BULLET64_INCLUDE btBulletDynamicsCommon.h PATH_SUFFIXES bullet REQUIRED)
-  target_include_directories(bench_bullet_peer SYSTEM PRIVATE ${TT_BULLET64_INCLUDE})
-  target_compile_definitions(bench_bullet_peer PRIVATE BT_USE_DOUBLE_PRECISION)
-  target_link_libraries(bench_bullet_peer ${TT_BULLET64_SOFTBODY} ${TT_BULLET64_DYNAMICS}
-    ${TT_BULLET64_COLLISION} ${TT_BULLET64_MATH})
+# bench_bullet_peer and bench_bullet_liver run Bullet's deformable bodies beside our models:
+# they link the double-precision Bullet (Debian's libBullet*-float64; FindBullet's
+# BULLET_LIBRARIES are the single-precision ones of the contact library, which these tools do
+# not link: the two export the same symbols).
+foreach(tool bench_bullet_peer bench_bullet_liver)
+  if(TARGET ${tool})
+    find_library(TT_BULLET64_SOFTBODY BulletSoftBody-float64 REQUIRED)
+    find_library(TT_BULLET64_DYNAMICS BulletDynamics-float64 REQUIRED)
+    find_library(TT_BULLET64_COLLISION BulletCollision-float64 REQUIRED)
+    find_library(TT_BULLET64_MATH LinearMath-float64 REQUIRED)
+    find_path(TT_BULLET64_INCLUDE btBulletDynamicsCommon.h PATH_SUFFIXES bullet REQUIRED)
+    target_include_directories(${tool} SYSTEM PRIVATE ${TT_BULLET64_INCLUDE})
+    target_compile_definitions(${tool} PRIVATE BT_USE_DOUBLE_PRECISION)
+    target_link_libraries(${tool} ${TT_BULLET64_SOFTBODY} ${TT_BULLET64_DYNAMICS}
+      ${TT_BULLET64_COLLISION} ${TT_BULLET64_MATH})
+  endif()
+endforeach()
+# bench_bullet_liver runs bench_bullet_liver_state (our contact, on the single-precision
+# Bullet) from the directory it is in.
+if(TARGET bench_bullet_liver AND TARGET bench_bullet_liver_state)
+  add_dependencies(bench_bullet_liver bench_bullet_liver_state)
 endif()
 
 # bench_scene_parts times the instrument contact query of the simulation node (Bullet);
-# bench_implicit_step steps the liver with the tool pressed in.
-foreach(tool bench_scene_parts bench_implicit_step)
+# bench_implicit_step steps the liver with the tool pressed in; bench_bullet_liver_state
+# presses it for bench_bullet_liver.
+foreach(tool bench_scene_parts bench_implicit_step bench_bullet_liver_state)
   if(TARGET ${tool})
     target_link_libraries(${tool} tissue_trainer_contact)
   endif()

@@ -12,7 +12,8 @@
 // The problems, meshes, masses, damping, initial states and error measures are those of
 // work_precision_problems.h; only the stepping differs.
 //
-// How Bullet is configured (read from its 3.24 headers, checked by the runs):
+// How Bullet is configured (read from its 3.24 headers, checked by the runs; the code is in
+// bullet_deformable.h, shared with bench_bullet_liver):
 //   - btDeformableMultiBodyDynamicsWorld with a btDeformableBodySolver, setImplicit(true) on
 //     both, no line search. The implicit step is backward Euler in the velocity
 //     increment: (M - h D - h^2 K) dv = h f(x_n + h v), x_{n+1} = x_n + h v_{n+1}, where the
@@ -52,16 +53,6 @@
 // rows of this run) and prints a table with the ratios to the pair at the same step.
 //   bench_bullet_peer [--quick] [--out DIR] [--pair MODEL] [--problems a,b] [--time-limit S]
 //                     [--bullet-newton N]
-#include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
-#include <BulletSoftBody/btDeformableBodySolver.h>
-#include <BulletSoftBody/btDeformableGravityForce.h>
-#include <BulletSoftBody/btDeformableLinearElasticityForce.h>
-#include <BulletSoftBody/btDeformableMultiBodyConstraintSolver.h>
-#include <BulletSoftBody/btDeformableMultiBodyDynamicsWorld.h>
-#include <BulletSoftBody/btDeformableNeoHookeanForce.h>
-#include <BulletSoftBody/btSoftBody.h>
-#include <BulletSoftBody/btSoftBodyRigidBodyCollisionConfiguration.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -73,175 +64,17 @@
 #include <vector>
 
 #include "bench_support.h"
+#include "bullet_deformable.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/parallel.h"
 #include "work_precision_csv.h"
 #include "work_precision_problems.h"
 
-static_assert(sizeof(btScalar) == sizeof(double), "build against Bullet's float64 libraries");
-
 namespace {
 
 using namespace tt;
 using namespace tt::work_precision;
-
-// --- Bullet ----------------------------------------------------------------------------------
-
-// The solver with its Newton and Krylov settings reachable.
-class PeerSolver : public btDeformableBodySolver {
- public:
-  void configure(int newtonPasses, double newtonTolerance, int krylovIterations,
-                 double krylovTolerance) {
-    m_maxNewtonIterations = newtonPasses;
-    m_newtonTolerance = newtonTolerance;
-    m_cr.m_maxIterations = m_cg.m_maxIterations = krylovIterations;
-    m_cr.setTolerance(krylovTolerance);
-    m_cg.setTolerance(krylovTolerance);
-  }
-};
-
-// Mass-proportional damping f = -c m v, implicit, and the probe that counts the solver's calls.
-class MassDamping : public btDeformableLagrangianForce {
- public:
-  explicit MassDamping(double rate) : rate_(rate) {}
-  long residuals = 0, products = 0;
-
-  void addScaledForces(btScalar scale, TVStack& force) override {
-    ++residuals;
-    addScaledDampingForce(scale, force);
-  }
-  void addScaledExplicitForce(btScalar, TVStack&) override {}
-  void addScaledDampingForce(btScalar scale, TVStack& force) override {
-    forEachFree([&](const btSoftBody::Node& n) {
-      force[n.index] -= scale * rate_ / n.m_im * n.m_v;
-    });
-  }
-  void addScaledDampingForceDifferential(btScalar scale, const TVStack& dv, TVStack& df) override {
-    ++products;
-    forEachFree([&](const btSoftBody::Node& n) {
-      df[n.index] -= scale * rate_ / n.m_im * dv[n.index];
-    });
-  }
-  void buildDampingForceDifferentialDiagonal(btScalar scale, TVStack& diagA) override {
-    forEachFree([&](const btSoftBody::Node& n) {
-      const btScalar d = scale * rate_ / n.m_im;
-      diagA[n.index] -= btVector3(d, d, d);
-    });
-  }
-  void addScaledElasticForceDifferential(btScalar, const TVStack&, TVStack&) override {}
-  void addScaledHessian(btScalar scale) override {
-    forEachFree([&](btSoftBody::Node& n) {
-      n.m_effectiveMass += btMatrix3x3::getIdentity() * (scale * rate_ / n.m_im);
-    });
-  }
-  // A type of its own (the world merges forces of equal type); no enumerator has special code.
-  btDeformableLagrangianForceType getForceType() override {
-    return static_cast<btDeformableLagrangianForceType>(7);
-  }
-
- private:
-  template <class F>
-  void forEachFree(F f) {
-    for (int b = 0; b < m_softBodies.size(); ++b)
-      for (int j = 0; j < m_softBodies[b]->m_nodes.size(); ++j)
-        if (m_softBodies[b]->m_nodes[j].m_im > 0) f(m_softBodies[b]->m_nodes[j]);
-  }
-  double rate_;
-};
-
-struct BulletSettings {
-  std::string model;  // bullet_linear_elasticity, bullet_neohookean
-  int newtonPasses = 5;
-  double newtonTolerance = 1e-4;
-  int krylovIterations = 300;
-  double krylovTolerance = 1e-8;  // Bullet's defaults
-  bool projection = true;         // Bullet's default is false (see the top of the file)
-};
-
-// One deformable world holding the beam of a System (its mesh, masses, constraints, state).
-class BulletBeam {
- public:
-  BulletBeam(const System& s, const BulletSettings& settings, double gravity, double dampingRate)
-      : dispatcher_(&collision_), world_(&dispatcher_, &broadphase_, &constraints_, &collision_, &solver_) {
-    solver_.configure(settings.newtonPasses, settings.newtonTolerance, settings.krylovIterations,
-                      settings.krylovTolerance);
-    solver_.setImplicit(true);
-    constraints_.setDeformableSolver(&solver_);
-    world_.setImplicit(true);
-    world_.setLineSearch(false);
-    world_.setUseProjection(settings.projection);
-    solver_.m_useProjection = settings.projection;
-    world_.setGravity(btVector3(0, 0, 0));
-    world_.getWorldInfo().m_gravity.setZero();
-    world_.getWorldInfo().m_sparsesdf.Initialize();
-
-    btAlignedObjectArray<btVector3> nodes;
-    btAlignedObjectArray<btScalar> masses;
-    for (int n = 0; n < s.numNodes(); ++n) {
-      nodes.push_back(toBt(s.mesh.rest.col(n)));
-      masses.push_back(s.isConstrained[3 * n] ? 0.0 : s.mass[3 * n]);
-    }
-    body_ = new btSoftBody(&world_.getWorldInfo(), s.numNodes(), &nodes[0], &masses[0]);
-    for (const Tet& t : s.mesh.tets) body_->appendTetra(t[0], t[1], t[2], t[3]);
-    body_->initializeDmInverse();
-    body_->m_tetraScratches.resize(body_->m_tetras.size());
-    body_->m_tetraScratchesTn.resize(body_->m_tetras.size());
-    body_->m_cfg.collisions = 0;
-    body_->m_cfg.drag = 0;
-    body_->m_cfg.m_maxStress = 0;
-    body_->m_useSelfCollision = false;
-    body_->setActivationState(DISABLE_DEACTIVATION);
-    for (int n = 0; n < s.numNodes(); ++n) {  // the initial state (rest shape stays the mesh's)
-      btSoftBody::Node& node = body_->m_nodes[n];
-      node.m_x = node.m_q = toBt(s.state.x.segment<3>(3 * n));
-      node.m_v = node.m_vn = toBt(s.state.v.segment<3>(3 * n));
-    }
-    world_.addSoftBody(body_);
-
-    const double mu = s.materials.front().mu, lambda = s.materials.front().lambda;  // ours
-    if (settings.model == "bullet_linear_elasticity")
-      elastic_ = std::make_unique<btDeformableLinearElasticityForce>(mu, lambda, 0.0, 0.0);
-    else
-      elastic_ = std::make_unique<btDeformableNeoHookeanForce>(4.0 / 3.0 * mu, lambda + 5.0 / 6.0 * mu, 0.0);
-    gravity_ = std::make_unique<btDeformableGravityForce>(btVector3(0, 0, -gravity));
-    damping_ = std::make_unique<MassDamping>(dampingRate);
-    world_.addForce(body_, elastic_.get());
-    world_.addForce(body_, gravity_.get());
-    world_.addForce(body_, damping_.get());
-  }
-  ~BulletBeam() {
-    world_.removeSoftBody(body_);
-    delete body_;
-  }
-  BulletBeam(const BulletBeam&) = delete;
-  BulletBeam& operator=(const BulletBeam&) = delete;
-
-  // One step of h; returns the substeps Bullet took.
-  int step(double h) { return world_.stepSimulation(h, 1, h); }
-  void read(Eigen::VectorXd& x, Eigen::VectorXd& v) const {
-    for (int n = 0; n < body_->m_nodes.size(); ++n) {
-      const btSoftBody::Node& node = body_->m_nodes[n];
-      for (int i = 0; i < 3; ++i) {
-        x[3 * n + i] = node.m_x[i];
-        v[3 * n + i] = node.m_v[i];
-      }
-    }
-  }
-  long residuals() const { return damping_->residuals; }
-  long products() const { return damping_->products; }
-
- private:
-  static btVector3 toBt(const Eigen::Vector3d& p) { return btVector3(p.x(), p.y(), p.z()); }
-  btSoftBodyRigidBodyCollisionConfiguration collision_;
-  btCollisionDispatcher dispatcher_;
-  btDbvtBroadphase broadphase_;
-  btDeformableMultiBodyConstraintSolver constraints_;
-  PeerSolver solver_;
-  btDeformableMultiBodyDynamicsWorld world_;
-  btSoftBody* body_ = nullptr;
-  std::unique_ptr<btDeformableLagrangianForce> elastic_, gravity_;
-  std::unique_ptr<MassDamping> damping_;
-};
+using BulletSettings = bullet::Settings;
 
 // --- runs ------------------------------------------------------------------------------------
 
@@ -320,7 +153,7 @@ RunResult runBullet(const Problem& p, const std::string& pair, const BulletSetti
   auto s = p.build(pair);
   double gravity = 0.0, dampingRate = 0.0;
   loadAndDamping(*s, gravity, dampingRate);
-  BulletBeam beam(*s, settings, gravity, dampingRate);
+  bullet::Body beam(*s, settings, {Eigen::Vector3d(0, 0, -gravity), dampingRate, {}});
   const bool largeDeformation = p.name == "beam_large_deflection";
   RunResult r = runFrames(p, pair, *s, h * substeps, timeLimit,
                           [&](Eigen::VectorXd& x, Eigen::VectorXd& v) {

@@ -206,6 +206,10 @@ TEST(BenchCommandLine, UnknownNamesAndBadValuesAreOneErrorLine) {
   cases.push_back({std::string(TT_BENCH_BULLET_PEER_PATH) + " --problems patch", "'patch'"});
   cases.push_back({std::string(TT_BENCH_BULLET_PEER_PATH) + " --bullet-newton 2.5", "'2.5'"});
 #endif
+#ifdef TT_BENCH_BULLET_LIVER_PATH
+  cases.push_back({std::string(TT_BENCH_BULLET_LIVER_PATH) + " --steps 2.5", "'2.5'"});
+  cases.push_back({std::string(TT_BENCH_BULLET_LIVER_PATH) + " --tetgen 'q1.4 a0.1'", "'q1.4 a0.1'"});
+#endif
   for (const auto& [command, named] : cases) {
     EXPECT_EQ(run(command + out, "bad_input.log"), 2) << command;
     std::ifstream log(outputDir() / "bad_input.log");

@@ -1,0 +1,154 @@
+// The start of bench_bullet_liver, computed in a process of its own: our contact
+// (TissueContact) links the single-precision Bullet, which cannot share a process with the
+// double-precision Bullet that bench_bullet_liver steps (both export the same symbols).
+//
+// As bench_implicit_step prepares its rows: the liver palpation scene (config/scenes/
+// liver_palpation.yaml) on its liver refined by TetGen (tetgen -r<SWITCHES>Q, e.g. q1.4a0.1:
+// the same surface, more tets; "none": the scene's own 596-tet liver) sags to rest under
+// gravity (3 s in steps of 0.1 s, backward Euler solved to 1e-10, then the velocity zeroed);
+// a 6 mm sphere is pressed 6 mm into the highest point of the anterior face near the trocar
+// axis and the liver is stepped 10 times (10 ms) with the contact re-queried each step; at
+// that pressed state one more query gives the contact force on every node.
+// Writes DIR/scene.yaml (the scene on the mesh) and DIR/state.txt: the scene's path, then
+// per node the sagged position and the pressed contact force:
+//   scene PATH
+//   nodes N
+//   x y z fx fy fz          (N lines, m and N)
+//   bench_bullet_liver_state DIR SWITCHES
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "tissue_trainer/core/contact/tissue_contact.h"
+#include "tissue_trainer/core/integrate/backward_euler.h"
+#include "tissue_trainer/core/mesh/mesh_io.h"
+#include "tissue_trainer/core/parallel.h"
+#include "tissue_trainer/core/scene/scene.h"
+
+namespace {
+
+using namespace tt;
+namespace fs = std::filesystem;
+
+constexpr double kToolRadius = 0.006, kToolDepth = 0.006, kStep = 0.01;
+
+// The repository root: $TT_SOURCE_DIR, else the one this tool was built from.
+std::string sourceDir() {
+  if (const char* env = std::getenv("TT_SOURCE_DIR")) return env;
+  return TT_SOURCE_ROOT;
+}
+
+// liver.msh refined by `tetgen -r<switches>Q` in dir; throws when TetGen fails.
+std::string refinedLiver(const fs::path& dir, const std::string& switches) {
+  writeMesh((dir / "liver.node").string(), readMesh(sourceDir() + "/config/meshes/liver.msh"));
+  const std::string command = "cd '" + dir.string() + "' && tetgen -r" + switches +
+                              "Q liver > tetgen.log 2>&1";
+  if (std::system(command.c_str()) != 0 || !fs::exists(dir / "liver.1.ele"))
+    throw std::runtime_error("tetgen -r" + switches + " failed (see " + (dir / "tetgen.log").string() + ")");
+  return (dir / "liver.1.ele").string();
+}
+
+// The palpation scene with another mesh of the same liver, written to `path`.
+void writeSceneWithMesh(const std::string& mesh, const fs::path& path) {
+  std::ifstream in(sourceDir() + "/config/scenes/liver_palpation.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string scene = text.str();
+  const auto replace = [&scene](const std::string& from, const std::string& to) {
+    const size_t at = scene.find(from);
+    if (at == std::string::npos) throw std::runtime_error("liver_palpation.yaml has no '" + from + "'");
+    scene.replace(at, from.size(), to);
+  };
+  replace("file: ../meshes/liver.msh", "file: " + mesh);
+  replace("file: ../meshes/liver-smooth.obj", "file: " + sourceDir() + "/config/meshes/liver-smooth.obj");
+  std::ofstream(path) << scene;
+}
+
+// The sphere's centre `depth` below touching the highest point (z) of the liver within 2 cm
+// (in x, y) of the trocar axis (x, y) = (-0.035, 0.075).
+Eigen::Isometry3d pressingPose(const System& system) {
+  Eigen::Vector3d top(-0.035, 0.075, -1e9);
+  for (int a = 0; a < system.numNodes(); ++a) {
+    const Eigen::Vector3d p = system.state.x.segment<3>(3 * a);
+    if (std::hypot(p.x() + 0.035, p.y() - 0.075) < 0.02 && p.z() > top.z()) top = p;
+  }
+  return Eigen::Isometry3d(Eigen::Translation3d(top + Eigen::Vector3d(0, 0, kToolRadius - kToolDepth)));
+}
+
+BackwardEulerParams tightParams() {
+  BackwardEulerParams p;
+  p.linearTolerance = 1e-10;
+  p.linearMaxIterations = 20000;
+  return p;
+}
+
+void writeState(const fs::path& path, const std::string& scene, const Eigen::VectorXd& x,
+                const Eigen::VectorXd& force) {
+  FILE* out = std::fopen(path.c_str(), "w");
+  if (!out) throw std::runtime_error("cannot write " + path.string());
+  std::fprintf(out, "scene %s\nnodes %d\n", scene.c_str(), static_cast<int>(x.size() / 3));
+  for (int i = 0; i < x.size(); i += 3)
+    std::fprintf(out, "%.17g %.17g %.17g %.17g %.17g %.17g\n", x[i], x[i + 1], x[i + 2],
+                 force[i], force[i + 1], force[i + 2]);
+  std::fclose(out);
+}
+
+int run(const fs::path& dir, const std::string& switches) {
+  setThreadCount(1);
+  fs::create_directories(dir);
+  const std::string mesh = switches == "none" ? sourceDir() + "/config/meshes/liver.msh"
+                                              : refinedLiver(dir, switches);
+  const fs::path scenePath = dir / "scene.yaml";
+  writeSceneWithMesh(mesh, scenePath);
+  Scene scene = loadScene(scenePath.string());
+  System& system = scene.system;
+
+  BackwardEulerIntegrator settle(tightParams());
+  for (int s = 0; s < 30; ++s) settle.advance(system, 0.1);
+  system.state.v.setZero();
+  const Eigen::VectorXd sagged = system.state.x;
+
+  ToolShape sphere;
+  sphere.type = ToolShape::Type::kSphere;
+  sphere.radius = kToolRadius;
+  sphere.link = "tip";
+  TissueContact contact(system, *scene.contact, {sphere});
+  const Eigen::Isometry3d pose = pressingPose(system);
+  contact.setTool(pose, {pose}, 1.0, system.state.t);
+  for (int s = 0; s < 10; ++s) {
+    contact.update();
+    settle.advance(system, kStep);
+  }
+  const size_t points = contact.update().points.size();
+  Eigen::VectorXd force = Eigen::VectorXd::Zero(system.numDofs());
+  contact.model().addForce(system.state.x, system.state.v, force);
+
+  writeState(dir / "state.txt", scenePath.string(), sagged, force);
+  std::printf("liver %d tets, %d nodes; sphere at (%.4f, %.4f, %.4f) m; pressed state: %zu contact "
+              "points, total contact force %.4f N\n", system.mesh.numTets(), system.numNodes(),
+              pose.translation().x(), pose.translation().y(), pose.translation().z(), points,
+              force.reshaped(3, system.numNodes()).rowwise().sum().norm());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 3) {
+    std::fprintf(stderr, "usage: bench_bullet_liver_state DIR SWITCHES (TetGen, e.g. q1.4a0.1, or none)\n");
+    return 2;
+  }
+  try {
+    return run(argv[1], argv[2]);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_bullet_liver_state: %s\n", e.what());
+    return 1;
+  }
+}
