@@ -1,10 +1,12 @@
 #!/usr/bin/python3
 """Sums gtest/rostest JUnit XML result files: prints one line per failed test (file, suite and
-name), then 'N passed, N failed[, N skipped]'. Exit 0 only when at least one test ran and none
+name) with the first lines of its failure message, then 'N passed, N failed[, N skipped]'. Exit 0 only when at least one test ran and none
 failed."""
 import os
 import sys
 import xml.etree.ElementTree as ET
+
+MESSAGE_LINES = 6
 
 passed = failed = skipped = 0
 for path in sys.argv[1:]:
@@ -15,9 +17,14 @@ for path in sys.argv[1:]:
         failed += 1
         continue
     for case in root.iter("testcase"):
-        if case.find("failure") is not None or case.find("error") is not None:
+        problems = case.findall("failure") + case.findall("error")
+        if problems:
             failed += 1
             print(f"FAILED: {os.path.basename(path)}: {case.get('classname')}.{case.get('name')}")
+            for problem in problems:
+                text = (problem.get("message") or problem.text or "").strip()
+                for line in text.splitlines()[:MESSAGE_LINES]:
+                    print(f"    {line}")
         elif case.find("skipped") is not None or case.get("status") == "notrun":
             skipped += 1
         else:
