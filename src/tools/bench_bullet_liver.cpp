@@ -56,12 +56,14 @@
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/parallel.h"
 #include "tissue_trainer/core/scene/scene.h"
+#include "liver_bench_scene.h"
 
 namespace {
 
 using namespace tt;
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+using bench::quantile;
 
 constexpr double kStep = 0.01;
 
@@ -89,12 +91,6 @@ struct Run {
 
 double msSince(Clock::time_point t0) {
   return 1e3 * std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5))];
 }
 
 // max |a - b| / max |ref - x0| over the DOFs.

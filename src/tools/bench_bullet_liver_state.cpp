@@ -31,19 +31,15 @@
 #include "tissue_trainer/core/mesh/mesh_io.h"
 #include "tissue_trainer/core/parallel.h"
 #include "tissue_trainer/core/scene/scene.h"
+#include "liver_bench_scene.h"
 
 namespace {
 
 using namespace tt;
 namespace fs = std::filesystem;
+using bench::sourceDir;
 
 constexpr double kToolRadius = 0.006, kToolDepth = 0.006, kStep = 0.01;
-
-// The repository root: $TT_SOURCE_DIR, else the one this tool was built from.
-std::string sourceDir() {
-  if (const char* env = std::getenv("TT_SOURCE_DIR")) return env;
-  return TT_SOURCE_ROOT;
-}
 
 // liver.msh refined by `tetgen -r<switches>Q` in dir; throws when TetGen fails.
 std::string refinedLiver(const fs::path& dir, const std::string& switches) {
@@ -53,33 +49,6 @@ std::string refinedLiver(const fs::path& dir, const std::string& switches) {
   if (std::system(command.c_str()) != 0 || !fs::exists(dir / "liver.1.ele"))
     throw std::runtime_error("tetgen -r" + switches + " failed (see " + (dir / "tetgen.log").string() + ")");
   return (dir / "liver.1.ele").string();
-}
-
-// The palpation scene with another mesh of the same liver, written to `path`.
-void writeSceneWithMesh(const std::string& mesh, const fs::path& path) {
-  std::ifstream in(sourceDir() + "/config/scenes/liver_palpation.yaml");
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string scene = text.str();
-  const auto replace = [&scene](const std::string& from, const std::string& to) {
-    const size_t at = scene.find(from);
-    if (at == std::string::npos) throw std::runtime_error("liver_palpation.yaml has no '" + from + "'");
-    scene.replace(at, from.size(), to);
-  };
-  replace("file: ../meshes/liver.msh", "file: " + mesh);
-  replace("file: ../meshes/liver-smooth.obj", "file: " + sourceDir() + "/config/meshes/liver-smooth.obj");
-  std::ofstream(path) << scene;
-}
-
-// The sphere's centre `depth` below touching the highest point (z) of the liver within 2 cm
-// (in x, y) of the trocar axis (x, y) = (-0.035, 0.075).
-Eigen::Isometry3d pressingPose(const System& system) {
-  Eigen::Vector3d top(-0.035, 0.075, -1e9);
-  for (int a = 0; a < system.numNodes(); ++a) {
-    const Eigen::Vector3d p = system.state.x.segment<3>(3 * a);
-    if (std::hypot(p.x() + 0.035, p.y() - 0.075) < 0.02 && p.z() > top.z()) top = p;
-  }
-  return Eigen::Isometry3d(Eigen::Translation3d(top + Eigen::Vector3d(0, 0, kToolRadius - kToolDepth)));
 }
 
 BackwardEulerParams tightParams() {
@@ -106,7 +75,7 @@ int run(const fs::path& dir, const std::string& switches) {
   const std::string mesh = switches == "none" ? sourceDir() + "/config/meshes/liver.msh"
                                               : refinedLiver(dir, switches);
   const fs::path scenePath = dir / "scene.yaml";
-  writeSceneWithMesh(mesh, scenePath);
+  bench::writeLiverSceneWithMesh(mesh, scenePath.string());
   Scene scene = loadScene(scenePath.string());
   System& system = scene.system;
 
@@ -120,7 +89,7 @@ int run(const fs::path& dir, const std::string& switches) {
   sphere.radius = kToolRadius;
   sphere.link = "tip";
   TissueContact contact(system, *scene.contact, {sphere});
-  const Eigen::Isometry3d pose = pressingPose(system);
+  const Eigen::Isometry3d pose = bench::pressingPose(system, kToolRadius, kToolDepth);
   contact.setTool(pose, {pose}, 1.0, system.state.t);
   for (int s = 0; s < 10; ++s) {
     contact.update();

@@ -37,27 +37,18 @@
 #include "tissue_trainer/core/mesh/mesh_io.h"
 #include "tissue_trainer/core/parallel.h"
 #include "tissue_trainer/core/scene/scene.h"
+#include "liver_bench_scene.h"
 
 namespace {
 
 using namespace tt;
 using Clock = std::chrono::steady_clock;
 using Preconditioning = BackwardEulerParams::Preconditioning;
-
-// The repository root: $TT_SOURCE_DIR, else the one this tool was built from.
-std::string sourceDir() {
-  if (const char* env = std::getenv("TT_SOURCE_DIR")) return env;
-  return TT_SOURCE_ROOT;
-}
+using bench::quantile;
+using bench::sourceDir;
 
 double seconds(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5))];
 }
 
 const std::string kWork = "/tmp/tt_bench_implicit_step";
@@ -87,30 +78,9 @@ std::string refinedLiver(int target, int& tets) {
 
 // The palpation scene with another mesh of the same liver.
 std::string sceneWithMesh(const std::string& mesh) {
-  std::ifstream in(sourceDir() + "/config/scenes/liver_palpation.yaml");
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string scene = text.str();
-  const auto replace = [&scene](const std::string& from, const std::string& to) {
-    const size_t at = scene.find(from);
-    if (at != std::string::npos) scene.replace(at, from.size(), to);
-  };
-  replace("file: ../meshes/liver.msh", "file: " + mesh);
-  replace("file: ../meshes/liver-smooth.obj", "file: " + sourceDir() + "/config/meshes/liver-smooth.obj");
   const std::string path = mesh + ".yaml";
-  std::ofstream(path) << scene;
+  bench::writeLiverSceneWithMesh(mesh, path);
   return path;
-}
-
-// The tool: a sphere pressed `depth` into the highest surface point within 2 cm (in x, y) of
-// the trocar axis (x, y) = (-0.035, 0.075), from above as the scripted operator does.
-Eigen::Isometry3d pressingPose(const System& system, double radius, double depth) {
-  Eigen::Vector3d top(-0.035, 0.075, -1e9);
-  for (int a = 0; a < system.numNodes(); ++a) {
-    const Eigen::Vector3d p = system.state.x.segment<3>(3 * a);
-    if (std::hypot(p.x() + 0.035, p.y() - 0.075) < 0.02 && p.z() > top.z()) top = p;
-  }
-  return Eigen::Isometry3d(Eigen::Translation3d(top + Eigen::Vector3d(0, 0, radius - depth)));
 }
 
 // A CSV field: quoted when it holds a comma.
@@ -144,7 +114,7 @@ class Bench {
     BackwardEulerIntegrator settle(tightParams());
     for (int s = 0; s < 30; ++s) settle.advance(scene.system, 0.1);
     scene.system.state.v.setZero();
-    toolPose_ = pressingPose(scene.system, kToolRadius, 0.006);
+    toolPose_ = bench::pressingPose(scene.system, kToolRadius, 0.006);
     auto contact = makeContact(scene);
     for (int s = 0; s < 10; ++s) {
       contact->update();

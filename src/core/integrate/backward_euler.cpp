@@ -99,12 +99,12 @@ void BackwardEulerIntegrator::ensureFactor(const System& system, double h) {
 }
 
 void BackwardEulerIntegrator::noteRefusals() {
-  const auto* amg = dynamic_cast<const AmgPreconditioner*>(rebuilt_.get());
+  const bool amg = params.preconditioner == BackwardEulerParams::Preconditioning::kAmg;
   int& refused = amg ? diagnostics_.amgFailures : diagnostics_.notPositiveDefinite;
   if (rebuilt_->refusals() > refused) solvesSinceRefusal_ = 0;
   refused = rebuilt_->refusals();
   diagnostics_.factorizations = rebuilt_->builds();
-  if (amg && !amg->lastError().empty()) diagnostics_.amgError = amg->lastError();
+  if (!rebuilt_->lastRefusal().empty()) diagnostics_.lastRefusal = rebuilt_->lastRefusal();
 }
 
 void BackwardEulerIntegrator::considerRefactor(int iterations, bool lostCurvature) {

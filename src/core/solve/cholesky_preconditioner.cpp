@@ -136,8 +136,10 @@ bool CholeskyPreconditioner::wait() {
 bool CholeskyPreconditioner::finish(bool positiveDefinite) {
   if (!positiveDefinite) {
     ++refused_;
+    lastRefusal_ = "Cholesky factorisation: the matrix is not positive definite";
     return false;
   }
+  lastRefusal_.clear();
   std::swap(active_, pending_);
   installed_ = true;
   ++factorizations_;

@@ -2,6 +2,7 @@
 // Shared by the backward-Euler preconditioner tests: a soft cantilever thrown into a large
 // deflection, tight solver settings, and a force that makes the system matrix indefinite.
 #include <Eigen/Core>
+#include <gtest/gtest.h>
 #include <memory>
 
 #include "tissue_trainer/core/integrate/backward_euler.h"
@@ -56,6 +57,19 @@ inline std::unique_ptr<System> beam(int cellsAlong = 8, int cellsAcross = 2) {
   return s;
 }
 
+// Adds a Repeller at the system's last node (the beam's free end) ten times stiffer than the
+// elastic stiffness there: M - h^2 K is indefinite at that node. Returns it (owned by s).
+inline Repeller& repelTip(System& s) {
+  const int tip = s.numNodes() - 1;
+  auto repeller = std::make_unique<Repeller>(tip, s.state.x.segment<3>(3 * tip) + Eigen::Vector3d(0, 0, 0.01));
+  Repeller& r = *repeller;
+  s.models.push_back(std::move(repeller));
+  SparseMatrix K;
+  s.assembleStiffness(s.state.x, K);
+  r.k = 10.0 * (-K.diagonal().segment<3>(3 * tip)).maxCoeff();
+  return r;
+}
+
 inline BackwardEulerParams tight(BackwardEulerParams::Preconditioning preconditioner) {
   BackwardEulerParams p;
   p.linearTolerance = 1e-12;
@@ -63,6 +77,34 @@ inline BackwardEulerParams tight(BackwardEulerParams::Preconditioning preconditi
   p.preconditioner = preconditioner;
   p.backgroundRefactor = false;
   return p;
+}
+
+// One run of the thrown beam: where it ended and what the integrator counted.
+struct RunResult {
+  Eigen::VectorXd x, start;
+  int linearIterations = 0;
+  int slowSolves = 0;  // solves above refactorIterations or meeting non-positive curvature
+  BackwardEulerDiagnostics diagnostics;
+};
+
+// The thrown beam, `cells` cells along and a quarter of them across, one solve per frame.
+inline RunResult run(BackwardEulerParams p, int frames, int cells = 8) {
+  auto s = beam(cells, cells / 4);
+  RunResult out;
+  out.start = s->state.x;
+  BackwardEulerIntegrator be(p);
+  for (int i = 0; i < frames; ++i) {
+    const int curvatureBefore = be.diagnostics().nonPositiveCurvature;
+    const StepReport r = be.advance(*s, 0.02);
+    EXPECT_TRUE(r.ok) << r.failure;
+    out.linearIterations += r.linearIterations;
+    if (r.linearIterations > p.refactorIterations ||
+        be.diagnostics().nonPositiveCurvature > curvatureBefore)
+      ++out.slowSolves;
+  }
+  out.x = s->state.x;
+  out.diagnostics = be.diagnostics();
+  return out;
 }
 
 }  // namespace testutil

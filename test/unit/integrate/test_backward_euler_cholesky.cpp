@@ -14,28 +14,12 @@ namespace tt {
 namespace {
 
 using testutil::beam;
+using testutil::RunResult;
+using testutil::run;
 using testutil::Repeller;
+using testutil::repelTip;
 using testutil::tight;
 
-struct RunResult {
-  Eigen::VectorXd x;
-  int linearIterations = 0;
-  BackwardEulerDiagnostics diagnostics;
-};
-
-RunResult run(BackwardEulerParams p, int frames) {
-  auto s = beam();
-  BackwardEulerIntegrator be(p);
-  RunResult out;
-  for (int i = 0; i < frames; ++i) {
-    const StepReport r = be.advance(*s, 0.02);
-    EXPECT_TRUE(r.ok) << r.failure;
-    out.linearIterations += r.linearIterations;
-  }
-  out.x = s->state.x;
-  out.diagnostics = be.diagnostics();
-  return out;
-}
 
 constexpr auto kJacobi = BackwardEulerParams::Preconditioning::kJacobi;
 constexpr auto kCholesky = BackwardEulerParams::Preconditioning::kCholesky;
@@ -43,7 +27,7 @@ constexpr auto kCholesky = BackwardEulerParams::Preconditioning::kCholesky;
 TEST(BackwardEulerCholesky, TakesTheStepsJacobiTakesInFarFewerIterations) {
   const RunResult jacobi = run(tight(kJacobi), 30);
   const RunResult cholesky = run(tight(kCholesky), 30);  // refactor_iterations 15
-  const double travel = (jacobi.x - beam()->state.x).lpNorm<Eigen::Infinity>();
+  const double travel = (jacobi.x - jacobi.start).lpNorm<Eigen::Infinity>();
   ASSERT_GT(travel, 0.02) << "travel " << travel;  // the beam did deflect (2 cm and more)
   EXPECT_LT((cholesky.x - jacobi.x).lpNorm<Eigen::Infinity>(), 1e-9 * travel);
   EXPECT_GE(cholesky.diagnostics.factorizations, 1);
@@ -80,14 +64,8 @@ TEST(BackwardEulerCholesky, ABackgroundFactorTakesOverBetweenSteps) {
 
 TEST(BackwardEulerCholesky, AMatrixThatIsNotPositiveDefiniteFallsBackToJacobi) {
   auto s = beam();
-  const int tip = s->numNodes() - 1;  // on the free end
-  auto repeller = std::make_unique<Repeller>(tip, s->state.x.segment<3>(3 * tip) + Eigen::Vector3d(0, 0, 0.01));
-  Repeller& r = *repeller;
-  s->models.push_back(std::move(repeller));
+  Repeller& r = repelTip(*s);
   const double h = 0.02;
-  SparseMatrix K;
-  s->assembleStiffness(s->state.x, K);
-  r.k = 10.0 * (-K.diagonal().segment<3>(3 * tip)).maxCoeff();  // M - h^2 K indefinite at the tip
   BackwardEulerParams p = tight(kCholesky);
   p.refactorIterations = 1;
   BackwardEulerIntegrator be(p);
@@ -97,6 +75,8 @@ TEST(BackwardEulerCholesky, AMatrixThatIsNotPositiveDefiniteFallsBackToJacobi) {
   EXPECT_TRUE(s->state.x.allFinite());
   EXPECT_EQ(be.diagnostics().factorizations, 0);
   EXPECT_EQ(be.diagnostics().notPositiveDefinite, 2);  // this step's matrix and the rest one's
+  EXPECT_NE(be.diagnostics().lastRefusal.find("not positive definite"), std::string::npos)
+      << be.diagnostics().lastRefusal;
   EXPECT_GE(be.diagnostics().jacobiFallbacks, 1);
   EXPECT_LT(be.diagnostics().lastRelativeResidual, 1e-10);  // solved all the same (BiCGSTAB)
 

@@ -11,8 +11,11 @@
 #include <regex>
 #include <set>
 #include <sstream>
+#include <string>
+#include <utility>
 
 #include "tissue_trainer/core/error.h"
+#include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/model/edge_length.h"
 #include "tissue_trainer/core/model/stvk_displacement.h"
@@ -273,6 +276,28 @@ TEST(Registry, EveryPresetAndIntegratorBuildsWhatItNames) {
 }
 
 // The literal presets select their option; the plain names keep the defaults.
+TEST(Registry, ThePreconditionerKeySelectsEachAndATypoNamesTheAcceptedValues) {
+  using Preconditioning = BackwardEulerParams::Preconditioning;
+  const std::string file = "inline.yaml";
+  const std::pair<const char*, Preconditioning> choices[] = {
+      {"jacobi", Preconditioning::kJacobi},
+      {"cholesky", Preconditioning::kCholesky},
+      {"amg", Preconditioning::kAmg}};
+  for (const auto& [name, expected] : choices) {
+    const YAML::Node spec = YAML::Load(std::string("{type: backward_euler, preconditioner: ") + name + "}");
+    const auto integrator = registry().makeIntegrator(YamlEntry(spec, "integrator", &file));
+    const auto* be = dynamic_cast<const BackwardEulerIntegrator*>(integrator.get());
+    ASSERT_NE(be, nullptr) << name;
+    EXPECT_EQ(be->params.preconditioner, expected) << name;
+  }
+  const YAML::Node typo = YAML::Load("{type: backward_euler, preconditioner: amgg}");
+  const std::string message =
+      thrownMessage([&] { registry().makeIntegrator(YamlEntry(typo, "integrator", &file)); });
+  EXPECT_NE(message.find("integrator.preconditioner: expected one of: jacobi, cholesky, amg"),
+            std::string::npos) << message;
+  EXPECT_NE(message.find("amgg"), std::string::npos) << message;
+}
+
 TEST(Registry, PresetOptionsReachTheModel) {
   Mesh mesh = boxGrid(2, 2, 2, Eigen::Vector3d(0.01, 0.01, 0.01), TetSplit::kFive);
   mesh.material.assign(mesh.numTets(), 0);

@@ -32,7 +32,7 @@
 // set-up always runs synchronously, right after the slow solve (backgroundRefactor does not
 // apply), and it does not refuse an indefinite matrix (CG meets the non-positive curvature
 // instead, and the solve is redone with BiCGSTAB as above). A hypre error counts as a refusal
-// (amgFailures, amgError) and the solves use Jacobi until a set-up succeeds.
+// (amgFailures, with hypre's message in lastRefusal) and the solves use Jacobi until a set-up succeeds.
 #include <Eigen/Core>
 #include <memory>
 #include <string>
@@ -70,7 +70,7 @@ struct BackwardEulerDiagnostics {
   int factorizations = 0;             // Cholesky factors installed or AMG hierarchies set up
   int notPositiveDefinite = 0;        // matrices the Cholesky factorisation refused
   int amgFailures = 0;                // AMG set-ups and V-cycles that hypre failed
-  std::string amgError;               // what hypre said the last time it failed
+  std::string lastRefusal;            // why the last refused factorisation or set-up was refused
   int jacobiFallbacks = 0;            // solves preconditioned by Jacobi for want of a factor
 };
 

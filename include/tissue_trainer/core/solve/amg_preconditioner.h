@@ -56,6 +56,7 @@ class AmgPreconditioner final : public RebuiltPreconditioner {
   int builds() const override { return setups_; }
   int refusals() const override { return failures_; }  // failed set-ups and V-cycles
   const std::string& lastError() const { return lastError_; }
+  const std::string& lastRefusal() const override { return lastError_; }
 
   // One V-cycle on A z = r from z = 0 (z = r when no hierarchy serves).
   void apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const override;

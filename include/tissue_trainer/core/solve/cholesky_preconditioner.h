@@ -53,6 +53,7 @@ class CholeskyPreconditioner final : public RebuiltPreconditioner {
   bool rebuildNow(const SparseMatrix& A) override { return factorNow(A); }
   int builds() const override { return factorizations_; }
   int refusals() const override { return refused_; }
+  const std::string& lastRefusal() const override { return lastRefusal_; }
 
   // z = L^-T D^-1 L^-1 r for the installed factor (r itself when none is installed).
   void apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const override;
@@ -69,6 +70,7 @@ class CholeskyPreconditioner final : public RebuiltPreconditioner {
   std::atomic<bool> done_{false};
   bool busy_ = false, pendingOk_ = false, installed_ = false;
   int factorizations_ = 0, refused_ = 0;
+  std::string lastRefusal_;
 };
 
 }  // namespace tt

@@ -7,6 +7,7 @@
 // Every solver starts from the x it is given (a warm start) and stops when
 // |b - A x| <= tolerance * |b| (2-norms) or after maxIterations operator applications.
 #include <Eigen/Core>
+#include <string>
 #include <vector>
 
 #include "tissue_trainer/core/solve/sparse_pattern.h"
@@ -54,6 +55,8 @@ class RebuiltPreconditioner : public Preconditioner {
   virtual bool busy() const = 0;   // a build is running
   virtual int builds() const = 0;    // installed so far
   virtual int refusals() const = 0;  // refused so far
+  // Why the last build was refused; empty when none was, or after a build succeeded.
+  virtual const std::string& lastRefusal() const = 0;
 };
 
 class IdentityPreconditioner final : public Preconditioner {

@@ -1,0 +1,65 @@
+#pragma once
+// What the organ-scale benchmarks share: the liver palpation scene (config/scenes/
+// liver_palpation.yaml) on another mesh of the same liver, and the pose that presses the
+// scripted operator's sphere into the liver's anterior face.
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "tissue_trainer/core/system.h"
+
+namespace tt {
+namespace bench {
+
+// The repository root: $TT_SOURCE_DIR, else the one the tool was built from.
+inline std::string sourceDir() {
+  if (const char* env = std::getenv("TT_SOURCE_DIR")) return env;
+  return TT_SOURCE_ROOT;
+}
+
+// The q quantile of v (nearest rank); NaN for no values.
+inline double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5))];
+}
+
+// Writes the palpation scene with `mesh` (an absolute path) for its liver to `path`; throws
+// when the scene no longer names the files this replaces.
+inline void writeLiverSceneWithMesh(const std::string& mesh, const std::string& path) {
+  std::ifstream in(sourceDir() + "/config/scenes/liver_palpation.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string scene = text.str();
+  const auto replace = [&scene](const std::string& from, const std::string& to) {
+    const size_t at = scene.find(from);
+    if (at == std::string::npos) throw std::runtime_error("liver_palpation.yaml has no '" + from + "'");
+    scene.replace(at, from.size(), to);
+  };
+  replace("file: ../meshes/liver.msh", "file: " + mesh);
+  replace("file: ../meshes/liver-smooth.obj", "file: " + sourceDir() + "/config/meshes/liver-smooth.obj");
+  std::ofstream out(path);
+  out << scene;
+  if (!out) throw std::runtime_error("cannot write " + path);
+}
+
+// A sphere of `radius` pressed `depth` into the highest point (z) of the liver within 2 cm
+// (in x, y) of the trocar axis (x, y) = (-0.035, 0.075), from above as the scripted operator
+// presses it.
+inline Eigen::Isometry3d pressingPose(const System& system, double radius, double depth) {
+  Eigen::Vector3d top(-0.035, 0.075, -1e9);
+  for (int a = 0; a < system.numNodes(); ++a) {
+    const Eigen::Vector3d p = system.state.x.segment<3>(3 * a);
+    if (std::hypot(p.x() + 0.035, p.y() - 0.075) < 0.02 && p.z() > top.z()) top = p;
+  }
+  return Eigen::Isometry3d(Eigen::Translation3d(top + Eigen::Vector3d(0, 0, radius - depth)));
+}
+
+}  // namespace bench
+}  // namespace tt
