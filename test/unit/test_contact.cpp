@@ -1,6 +1,8 @@
 // Instrument-tissue contact (tissue_trainer_contact, Bullet): penalty forces of a sphere and
 // a capsule pressed into the top of a box grid, the contact stiffness against a finite
-// difference, no contact, grasp and release, Newton's third law.
+// difference, no contact, grasp and release, Newton's third law; the tool shapes' penetration
+// depth and normal; the per-area node penalties against the pressure integral at two
+// resolutions.
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
@@ -77,6 +79,92 @@ TEST(Contact, SpherePressedIntoTheTopGivesNormalDepthAndForce) {
   expectedK(1, 1) = 300.0;
   EXPECT_LT((r.K - expectedK).norm(), 1e-3);
   EXPECT_LT((r.x0 - tip).norm(), 1e-15);
+}
+
+// The depth falls by the distance moved along the outward normal: its gradient is -outward.
+// Points well inside, away from the ridges where the nearest surface changes.
+TEST(ToolShapePenetration, DepthAndNormalOfEachShapeAgreeWithAFiniteDifference) {
+  ToolShape capsule, cylinder, box;
+  capsule.type = ToolShape::Type::kCapsule, capsule.radius = 0.003, capsule.length = 0.02;
+  cylinder.type = ToolShape::Type::kCylinder, cylinder.radius = 0.003, cylinder.length = 0.02;
+  box.type = ToolShape::Type::kBox, box.size = Eigen::Vector3d(0.01, 0.004, 0.02);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.rotate(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()));
+  pose.translation() = Eigen::Vector3d(0.01, -0.02, 0.03);
+  struct Case {
+    ToolShape shape;
+    Eigen::Vector3d local;  // the point in the shape's frame
+    double depth;
+    Eigen::Vector3d outward;  // in the shape's frame
+  };
+  const Case cases[] = {
+      {sphere(0.005), {0.001, 0.002, -0.001}, 0.005 - std::sqrt(6e-6), Eigen::Vector3d(1, 2, -1).normalized()},
+      {capsule, {0.001, 0.0, 0.004}, 0.002, Eigen::Vector3d::UnitX()},             // beside the axis
+      {capsule, {0.0, 0.001, 0.0105}, 0.003 - std::hypot(0.001, 0.0005), Eigen::Vector3d(0, 2, 1).normalized()},  // in a cap
+      {cylinder, {0.0, -0.002, 0.001}, 0.001, -Eigen::Vector3d::UnitY()},          // nearer the side
+      {cylinder, {0.0005, 0.0, -0.0095}, 0.0005, -Eigen::Vector3d::UnitZ()},       // nearer an end
+      {box, {0.001, 0.0015, -0.002}, 0.0005, Eigen::Vector3d::UnitY()},            // the thin axis
+  };
+  for (const Case& c : cases) {
+    const Eigen::Vector3d p = pose * c.local;
+    double depth = 0.0;
+    Eigen::Vector3d outward;
+    ASSERT_TRUE(penetration(c.shape, pose, p, depth, outward)) << c.local.transpose();
+    EXPECT_NEAR(depth, c.depth, 1e-12) << c.local.transpose();
+    EXPECT_LT((outward - pose.linear() * c.outward).norm(), 1e-12) << c.local.transpose();
+    const double h = 1e-7;
+    for (int axis = 0; axis < 3; ++axis) {
+      double ahead = 0.0, behind = 0.0;
+      Eigen::Vector3d unused;
+      ASSERT_TRUE(penetration(c.shape, pose, p + h * Eigen::Vector3d::Unit(axis), ahead, unused));
+      ASSERT_TRUE(penetration(c.shape, pose, p - h * Eigen::Vector3d::Unit(axis), behind, unused));
+      EXPECT_NEAR((behind - ahead) / (2 * h), outward[axis], 1e-6) << c.local.transpose();
+    }
+    double outside = 0.0;
+    Eigen::Vector3d unused;
+    EXPECT_FALSE(penetration(c.shape, pose, p + (depth + 1e-6) * outward, outside, unused))
+        << c.local.transpose();
+  }
+}
+
+// A sphere of radius R pressed d into a flat face, the tissue held at rest: a pressure k_A
+// times the radial penetration R - rho over the patch (rho: distance from the centre, h = R - d
+// its height above the face) pushes the tool up by
+//   k_A int (R - rho) (h / rho) dA = 2 pi k_A h int_h^R (R - rho) drho = pi k_A h d^2,
+// which the node penalties sample; the error falls as the grid is refined.
+TEST(Contact, NodePenaltiesPerAreaSumToThePressureOverTheContactPatch) {
+  const double R = 0.008, d = 0.003, kA = 2e6;
+  const double expected = M_PI * kA * (R - d) * d * d;
+  ContactSettings c = settings();
+  c.stiffnessPerArea = kA;
+  double lastError = HUGE_VAL;
+  for (int nodesAcross : {17, 33}) {
+    Mesh mesh = boxGrid(nodesAcross, 3, nodesAcross, Eigen::Vector3d(0.04, 0.02, 0.04),
+                        TetSplit::kFiveMirrored);
+    System s(std::move(mesh), {Material::isotropic(3e3, 0.4, 1000)});
+    TissueContact contact(s, c, {sphere(R)});
+    const Eigen::Vector3d tip(0.0203, 0.02 + R - d, 0.0197);  // off the grid's symmetry lines
+    contact.setTool(at(tip), {at(tip)}, 1.0, 0.0);
+    const ContactResult& r = contact.update();
+    ASSERT_TRUE(r.inContact);
+    const double error = std::abs(r.f0.y() - expected);
+    EXPECT_LT(error, 0.03 * expected) << nodesAcross << " nodes across: " << r.f0.y() << " N";
+    EXPECT_LT(error, lastError) << nodesAcross << " nodes across";
+    lastError = error;
+    EXPECT_LT(std::hypot(r.f0.x(), r.f0.z()), 0.05 * r.f0.y()) << nodesAcross << " nodes across";
+    for (const ContactPoint& p : r.points) {
+      EXPECT_GT(p.depth, 0.0);
+      EXPECT_LT(p.depth, d + 1e-12);
+      EXPECT_NEAR(((p.tissuePoint - tip).norm()), R - p.depth, 1e-12);  // on the ray from the centre
+    }
+    // The force on the tissue is minus the force on the tool; K is the sum of k n n^T.
+    Eigen::VectorXd f = Eigen::VectorXd::Zero(s.numDofs());
+    contact.model().addForce(s.state.x, s.state.v, f);
+    Eigen::Vector3d onTissue = Eigen::Vector3d::Zero();
+    for (int a = 0; a < s.numNodes(); ++a) onTissue += f.segment<3>(3 * a);
+    EXPECT_LT((onTissue + r.f0).norm(), 1e-9 * r.f0.norm());
+    EXPECT_GT(r.K(1, 1), 0.0);
+  }
 }
 
 TEST(Contact, CapsuleAcrossTheTopPushesStraightUp) {

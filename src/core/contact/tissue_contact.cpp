@@ -208,6 +208,30 @@ TissueContact::TissueContact(System& system, const ContactSettings& settings,
     b.toolObjects.push_back(std::move(object));
   }
   shapePoses_.assign(shapes_.size(), Eigen::Isometry3d::Identity());
+  if (settings_.stiffnessPerArea > 0.0) prepareSurfaceNodes();
+}
+
+// Each surface node's share of the rest surface area (a third of each triangle it is a corner
+// of) and one of its triangles (for the contact points' report).
+void TissueContact::prepareSurfaceNodes() {
+  const Mesh& mesh = system_.mesh;
+  std::vector<double> area(mesh.numNodes(), 0.0);
+  std::vector<int> triangle(mesh.numNodes(), -1);
+  for (size_t t = 0; t < mesh.surface.size(); ++t) {
+    const Triangle& tri = mesh.surface[t];
+    const Eigen::Vector3d a = mesh.rest.col(tri[0]), b = mesh.rest.col(tri[1]), c = mesh.rest.col(tri[2]);
+    const double third = (b - a).cross(c - a).norm() / 6.0;
+    for (int node : tri) {
+      area[node] += third;
+      if (triangle[node] < 0) triangle[node] = static_cast<int>(t);
+    }
+  }
+  for (int node = 0; node < mesh.numNodes(); ++node)
+    if (triangle[node] >= 0) {
+      surfaceNodes_.push_back(node);
+      nodeArea_.push_back(area[node]);
+      nodeTriangle_.push_back(triangle[node]);
+    }
 }
 
 TissueContact::~TissueContact() {
@@ -317,7 +341,66 @@ const ContactResult& TissueContact::update() {
   haveLast_ = true;
 
   updateGrasp(jawAngle_ < settings_.graspJawAngle, previous);
+  if (settings_.stiffnessPerArea > 0.0) addNodePenalties(x);
+  else addPointPenalties(x);
 
+  if (!model_->penalties.empty() || !model_->springs.empty()) {
+    result_.f0 = model_->toolForce(x, system_.state.v);
+    result_.K = model_->toolStiffness(x);
+  }
+  result_.graspedNodes = graspNodes_;
+  result_.grasping = !graspNodes_.empty();
+  if (!result_.f0.allFinite() || !result_.K.allFinite()) {
+    model_->penalties.clear();
+    model_->springs.clear();
+    result_.f0.setZero();
+    result_.K.setZero();
+    result_.points.clear();
+  }
+  result_.inContact = !model_->penalties.empty() || !model_->springs.empty();
+  return result_;
+}
+
+bool TissueContact::grasped(int node) const {
+  return std::find(graspNodes_.begin(), graspNodes_.end(), node) != graspNodes_.end();
+}
+
+// One penalty per surface node inside a tool shape (the deepest shape where several hold it),
+// of stiffness k_A times the node's share of the rest surface area: the contact patch, not the
+// count of Bullet's contact points, sets the force.
+void TissueContact::addNodePenalties(const Eigen::VectorXd& x) {
+  for (size_t i = 0; i < surfaceNodes_.size(); ++i) {
+    const int a = surfaceNodes_[i];
+    if (grasped(a)) continue;
+    const Eigen::Vector3d p = x.segment<3>(3 * a);
+    ContactPoint deepest;
+    for (size_t k = 0; k < shapes_.size(); ++k) {
+      double depth = 0.0;
+      Eigen::Vector3d outward;
+      if (!penetration(shapes_[k], shapePoses_[k], p, depth, outward) || depth <= deepest.depth)
+        continue;
+      deepest.shape = static_cast<int>(k);
+      deepest.depth = depth;
+      deepest.normal = -outward;  // from the tissue toward the tool
+    }
+    if (!(deepest.depth > 0.0)) continue;
+    deepest.triangle = nodeTriangle_[i];
+    deepest.tissuePoint = p;
+    deepest.toolPoint = p - deepest.depth * deepest.normal;
+    PenaltyContact pc;
+    pc.nodes = {a, a, a};
+    pc.weights = Eigen::Vector3d(1.0, 0.0, 0.0);
+    pc.normal = deepest.normal;
+    pc.toolPoint = deepest.toolPoint;
+    pc.stiffness = settings_.stiffnessPerArea * nodeArea_[i];
+    pc.damping = settings_.damping * nodeArea_[i];
+    if (!pc.normal.allFinite() || !pc.toolPoint.allFinite()) continue;
+    model_->penalties.push_back(pc);
+    result_.points.push_back(deepest);
+  }
+}
+
+void TissueContact::addPointPenalties(const Eigen::VectorXd& x) {
   Bullet& b = *bullet_;
   std::vector<ContactPoint> found;
   if (b.anyShapeNear(x, shapePoses_)) {
@@ -366,10 +449,7 @@ const ContactResult& TissueContact::update() {
     });
     if (duplicate) continue;
     const Triangle& t = surface[q.triangle];
-    if (std::any_of(t.begin(), t.end(), [&](int a) {
-          return std::find(graspNodes_.begin(), graspNodes_.end(), a) != graspNodes_.end();
-        }))
-      continue;
+    if (std::any_of(t.begin(), t.end(), [&](int a) { return grasped(a); })) continue;
     const Eigen::Vector3d a = x.segment<3>(3 * t[0]), bb = x.segment<3>(3 * t[1]),
                           c = x.segment<3>(3 * t[2]);
     PenaltyContact pc;
@@ -384,22 +464,6 @@ const ContactResult& TissueContact::update() {
     model_->penalties.push_back(pc);
     result_.points.push_back(q);
   }
-
-  if (!model_->penalties.empty() || !model_->springs.empty()) {
-    result_.f0 = model_->toolForce(x, system_.state.v);
-    result_.K = model_->toolStiffness(x);
-  }
-  result_.graspedNodes = graspNodes_;
-  result_.grasping = !graspNodes_.empty();
-  if (!result_.f0.allFinite() || !result_.K.allFinite()) {
-    model_->penalties.clear();
-    model_->springs.clear();
-    result_.f0.setZero();
-    result_.K.setZero();
-    result_.points.clear();
-  }
-  result_.inContact = !model_->penalties.empty() || !model_->springs.empty();
-  return result_;
 }
 
 }  // namespace tt

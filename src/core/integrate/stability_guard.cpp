@@ -67,6 +67,7 @@ void GuardStats::add(const StepReport& frame) {
   halvings += frame.halvings;
   if (!frame.ok) ++failures;
   else if (frame.halvings > 0) ++recoveries;
+  if (frame.cutShort) ++cutShort;
   if (!frame.guardReason.empty()) lastReason = frame.guardReason;
 }
 
@@ -94,6 +95,11 @@ StepReport StabilityGuard::advance(System& system, double frameTime) {
         carryExcess();
         keepDepth(depth, report.halvings > 0);
         measured_ = system.state;  // where end_ was measured
+        if (!std::isnan(cutShortAt_)) {
+          report.cutShort = true;
+          report.guardReason = format("frame cut short for the wall-time budget at t = %.9g s "
+                                      "(steps of 1/%.0f)", cutShortAt_, double(1 << depth));
+        }
         break;
       }
       system.state = frameStart_;
@@ -184,6 +190,7 @@ std::string StabilityGuard::attempt(System& system, double frameTime, int depth,
   inner_->setStepDivisor(pieces);
   flows_ = {};
   stoppedForBudget_ = false;
+  cutShortAt_ = std::numeric_limits<double>::quiet_NaN();
   const double t0 = frameStart_.t;
   for (int i = 0; i < pieces; ++i) {
     const double start = system.state.t;
@@ -198,8 +205,14 @@ std::string StabilityGuard::attempt(System& system, double frameTime, int depth,
     std::string problem = step.ok ? check(system, step.lastStep) : "integrator failed: " + step.failure;
     if (!problem.empty())
       return problem + format(" in t = [%.9g, %.9g] s", start, end);
-    // The frame's first attempt always finishes: a frame that starts deep must still advance.
-    if (depth > startDepth_ && i + 1 < pieces && !budgetSpent().empty()) {
+    if (i + 1 < pieces && !budgetSpent().empty()) {
+      // A retry stops and fails. The frame's first attempt keeps the pieces it made, all
+      // checked, and ends the frame early: a frame that starts deep still advances, within
+      // the budget and one piece.
+      if (depth == startDepth_) {
+        cutShortAt_ = end;
+        return {};
+      }
       stoppedForBudget_ = true;
       return format("stopped for the budget at t = %.9g s", end);
     }

@@ -450,6 +450,7 @@ void SimulationNode::publishDiagnostics(const ros::SteadyTimerEvent&) {
   add("guard_recoveries", std::to_string(guard_.recoveries));
   add("guard_halvings", std::to_string(guard_.halvings));
   add("guard_failures", std::to_string(guard_.failures));
+  add("guard_frames_cut_short", std::to_string(guard_.cutShort));
   add("guard_last_reason", guard_.lastReason);
   add("in_contact", lastContact_.inContact ? "true" : "false");
   add("contact_points", std::to_string(lastContact_.points.size()));

@@ -297,10 +297,11 @@ class SlowAndSpoilsTheFrameEnd : public Integrator {
     std::this_thread::sleep_for(std::chrono::milliseconds(4));
     pieces.push_back(frameTime);
     system.state.t += frameTime;
-    if (system.state.t > kFrame * (1.0 - 1e-9)) system.state.v[0] = std::nan("");
+    if (spoil && system.state.t > kFrame * (1.0 - 1e-9)) system.state.v[0] = std::nan("");
     return {};
   }
   std::vector<double> pieces;  // the length of every call
+  bool spoil = true;
 };
 
 TEST(StabilityGuard, AWallTimeBudgetEndsTheRetriesOfAFrameThatCannotBeMadeStable) {
@@ -333,6 +334,37 @@ TEST(StabilityGuard, AWallTimeBudgetEndsTheRetriesOfAFrameThatCannotBeMadeStable
   budgeted.advance(*s, kFrame);
   ASSERT_FALSE(calls.pieces.empty());
   EXPECT_NEAR(calls.pieces.front(), kFrame / (1 << (r.halvings + 1)), 1e-15);
+}
+
+// A frame that starts deep (after one the budget ended) and passes, but whose pieces take
+// longer than the budget: it ends early with the pieces it made instead of stalling the node.
+TEST(StabilityGuard, AFrameThatStartsDeepEndsEarlyWithinTheBudgetAndKeepsItsPieces) {
+  auto s = stiffBlock();
+  StabilityGuardParams p;
+  p.wallBudget = 3 * kFrame;
+  auto slow = std::make_unique<SlowAndSpoilsTheFrameEnd>();
+  SlowAndSpoilsTheFrameEnd& calls = *slow;
+  StabilityGuard guard(std::move(slow), p);
+  ASSERT_FALSE(guard.advance(*s, kFrame).ok);  // the budget ends it: the next starts deeper
+  calls.spoil = false;
+  double t = s->state.t;
+  for (int frame = 0; frame < 3; ++frame) {
+    calls.pieces.clear();
+    const StepReport r = guard.advance(*s, kFrame);
+    ASSERT_TRUE(r.ok) << r.failure;
+    const int deep = static_cast<int>(std::lround(kFrame / calls.pieces.front()));
+    ASSERT_GE(deep, 16);  // 16 pieces of 4 ms and more: beyond the 30 ms budget
+    EXPECT_TRUE(r.cutShort);
+    EXPECT_LT(calls.pieces.size(), static_cast<size_t>(deep));
+    EXPECT_LT(r.wallSeconds, 0.25);  // the budget, one more piece, slack for a busy host
+    EXPECT_NEAR(s->state.t - t, calls.pieces.size() * calls.pieces.front(), 1e-15);
+    EXPECT_NE(r.guardReason.find("frame cut short for the wall-time budget"), std::string::npos)
+        << r.guardReason;
+    EXPECT_EQ(r.halvings, 0);
+    t = s->state.t;
+  }
+  EXPECT_GT(s->state.t, 0.0);
+  EXPECT_LT(s->state.t, 3 * kFrame);
 }
 
 TEST(StabilityGuard, NoHalvingsAllowedFailsAtOnceWithTheCheckAndRestores) {

@@ -95,6 +95,8 @@ TEST(MalformedScene, EachErrorNamesFileLineAndKey) {
       {"rotate_deg not numbers", edited("size: [0.02, 0.02, 0.02]", "size: [0.02, 0.02, 0.02]\n  rotate_deg: [a, 0, 0]"), 6, "mesh.rotate_deg"},
       {"unknown contact key", edited("run:", "contact: {stiffnes: 100}\nrun:"), 21, "contact.stiffnes"},
       {"negative contact stiffness", edited("run:", "contact: {stiffness: -100}\nrun:"), 21, "contact.stiffness: expected a positive number"},
+      {"both contact stiffnesses", edited("run:", "contact: {stiffness: 100, stiffness_per_area: 1e6}\nrun:"), 21, "contact.stiffness_per_area: give either stiffness"},
+      {"negative contact stiffness per area", edited("run:", "contact: {stiffness_per_area: -1e6}\nrun:"), 21, "contact.stiffness_per_area: expected a positive number"},
       {"negative contact damping", edited("run:", "contact: {damping: -1}\nrun:"), 21, "contact.damping"},
       {"grasp angle out of range", edited("run:", "contact: {grasp_jaw_angle: 4}\nrun:"), 21, "[0, pi]"},
       {"zero grasp nodes", edited("run:", "contact: {grasp_max_nodes: 0}\nrun:"), 21, "contact.grasp_max_nodes"},

@@ -87,6 +87,10 @@ TEST(SceneContact, ContactIsBuiltOnlyWhenListed) {
   EXPECT_EQ(listed.contact->graspRadius, 0.004);
   EXPECT_EQ(listed.contact->graspMaxNodes, 5);
   EXPECT_EQ(listed.system.models.size(), 1u);  // the contact model comes with the contact library
+  EXPECT_EQ(listed.contact->stiffnessPerArea, 0.0);
+  const Scene perArea = sceneFrom(block("") + "contact: {stiffness_per_area: 2.5e6}\n");
+  ASSERT_TRUE(perArea.contact.has_value());
+  EXPECT_EQ(perArea.contact->stiffnessPerArea, 2.5e6);
 }
 
 TEST(SceneContact, RenderSurfaceIsEmbeddedAndShown) {

@@ -18,7 +18,16 @@
 // Penalty contacts on triangles with a grasped node are skipped (the springs hold them).
 // Contact points: a face contact (Bullet's normal along the triangle's) outranks the edge
 // contacts of the same shape (the neighbours of that face); normals facing into the tissue
-// are dropped; points reported by several triangles count once.
+// are dropped; points reported by several triangles count once. Each point is one penalty of
+// ContactSettings::stiffness, so the contact gets stiffer, and the load more concentrated, as
+// the surface is refined.
+//
+// Or, with ContactSettings::stiffnessPerArea > 0, per surface node: every surface node inside
+// a tool shape (penetration(), tool_shape.h; Bullet is not queried) is pushed out along the
+// shape's nearest-surface normal by a penalty of stiffnessPerArea times the node's share of
+// the rest surface area, so that the force for an indentation is (the integral of the depth
+// over the patch) times stiffnessPerArea whatever the resolution. A tool smaller than the
+// spacing of the surface nodes can then slip between them: for meshes finer than the tool.
 //
 // Bullet works internally in centimetres (kBulletScale): its GJK/EPA tolerances suit objects
 // of about 0.05 to 10 units, millimetre jaws in metres do not.
@@ -88,7 +97,11 @@ class TissueContact {
 
  private:
   struct Bullet;
+  void prepareSurfaceNodes();
   void updateGrasp(bool jawClosed, const std::vector<ContactPoint>& previous);
+  void addPointPenalties(const Eigen::VectorXd& x);
+  void addNodePenalties(const Eigen::VectorXd& x);
+  bool grasped(int node) const;
   Eigen::Vector3d graspCentre() const;
 
   System& system_;
@@ -109,6 +122,11 @@ class TissueContact {
   std::vector<Eigen::Vector3d> graspOffsets_;  // grasped nodes' positions in the tip frame
   std::vector<int> graspNodes_;
   ContactResult result_;
+  // With ContactSettings::stiffnessPerArea: the surface nodes, each one's share of the rest
+  // surface area (m^2) and one triangle it is a corner of.
+  std::vector<int> surfaceNodes_;
+  std::vector<double> nodeArea_;
+  std::vector<int> nodeTriangle_;
 };
 
 }  // namespace tt

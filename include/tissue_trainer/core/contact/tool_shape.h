@@ -18,4 +18,11 @@ struct ToolShape {
   bool jaw = false;                              // part of a jaw: counts for grasping
 };
 
+// How deep the point p (world) lies inside the shape posed at `pose` (world pose of the shape,
+// offset included): true when inside, with the depth to the nearest surface point (m, > 0)
+// and the outward unit normal there (the direction that pushes p out by the shortest way).
+// False on or outside the surface.
+bool penetration(const ToolShape& shape, const Eigen::Isometry3d& pose, const Eigen::Vector3d& p,
+                 double& depth, Eigen::Vector3d& outward);
+
 }  // namespace tt

@@ -23,6 +23,7 @@ struct StepReport {
   bool guarded = false;      // the guard checked this frame
   int halvings = 0;          // times the guard rolled this frame back and halved the step
   std::string guardReason;   // the last problem the guard found in this frame (recovered or not)
+  bool cutShort = false;     // the guard ended the frame early for its wall-time budget
 };
 
 class Integrator {

@@ -51,7 +51,11 @@
 // as above (state restored),
 // so that a frame it cannot make stable costs the node a few periods, not seconds, and the
 // next frame starts with one halving more than the last attempt (a frame too slow to be
-// retried within the budget then still gets its shorter steps, one frame later).
+// retried within the budget then still gets its shorter steps, one frame later). The frame's
+// first attempt, when it runs out of budget between its pieces, keeps the pieces it made (each
+// checked) and ends the frame there, before its end time (StepReport::cutShort): a frame that
+// starts deep costs the budget and one piece, and the simulation falls behind the wall clock
+// instead of stalling, until the frames that pass at once have relaxed the step again.
 //
 // When every check passes at once the wrapped integrator has advanced the frame exactly as it
 // would alone (bit-identical state); the guard only adds its measurements. After a rollback,
@@ -81,6 +85,7 @@ struct GuardStats {
   long recoveries = 0;     // frames that passed only after rolling back and halving
   long halvings = 0;       // rollbacks followed by a halving, all frames
   long failures = 0;       // frames that failed every attempt
+  long cutShort = 0;       // frames ended early for the wall-time budget
   std::string lastReason;  // the last problem found (recovered or not)
 
   void add(const StepReport& frame);
@@ -163,6 +168,7 @@ class StabilityGuard : public Integrator {
   double loadRate_ = 0.0;  // L = 1/2 sum f^2 / m of the body loads and external force (J/s^2)
   std::chrono::steady_clock::time_point frameClock_;  // when this frame began
   bool stoppedForBudget_ = false;  // the last attempt stopped between pieces for the budget
+  double cutShortAt_ = 0.0;  // NaN, or where the last attempt ended its frame early (s)
 };
 
 // The integrator a guard wraps, or `integrator` itself when it is not a guard.

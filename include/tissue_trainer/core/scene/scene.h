@@ -22,7 +22,9 @@ struct SceneOutput {
 // (tissue_trainer_contact). Plain numbers only: the scene knows nothing of Bullet.
 struct ContactSettings {
   double stiffness = 200.0;        // penalty k_c per contact point (N/m)
-  double damping = 0.0;            // normal damping per contact point (N s/m)
+  // > 0: penalties per surface node inside the tool instead, k_A times the node's area (N/m^3)
+  double stiffnessPerArea = 0.0;
+  double damping = 0.0;            // normal damping per contact point (N s/m; N s/m^3 with k_A)
   double graspStiffness = 100.0;   // spring from each grasped node to the tip (N/m)
   double graspJawAngle = 0.1;      // jaw opening (rad) below which the jaws grasp
   double graspRadius = 0.006;      // nodes within this distance of the jaw centre are grasped (m)
