@@ -2,6 +2,7 @@
 """Draws the benchmark report from the CSV files of bench_work_precision and bench_scaling.
 
   plot.py DIR [--elapsed SECONDS] [--command TEXT] [--note TEXT]
+  plot.py DIR --implicit-scaling
 
 Reads DIR/work_precision.csv, work_precision_facts.csv, scaling.csv and scaling_fits.csv;
 writes one log-log error-vs-time PNG per problem (Pareto front highlighted), the mesh
@@ -282,7 +283,8 @@ def plot_mesh_convergence(runs, out_dir):
     return slopes
 
 
-def plot_scaling(samples, fits, out_dir):
+def plot_scaling(samples, fits, out_dir, name="scaling.png",
+                 title="Time per force evaluation, explicit step and implicit step"):
     fig, ax = plt.subplots(figsize=(8, 5.5))
     groups = defaultdict(list)
     for s in samples:
@@ -294,9 +296,16 @@ def plot_scaling(samples, fits, out_dir):
         ax.plot([int(s["tets"]) for s in group], [number(s["wall_seconds"]) for s in group],
                 linestyle=styles.get(quantity, "-"), marker=MARKERS.get(model, "o"),
                 label=f"{quantity}, {model} (slope {slope:.2f})")
-    finish_loglog(fig, ax, "tets", "seconds (median, one thread)",
-                  "Time per force evaluation, explicit step and implicit step",
-                  os.path.join(out_dir, "scaling.png"), legend_size=7)
+    finish_loglog(fig, ax, "tets", "seconds (median, one thread)", title,
+                  os.path.join(out_dir, name), legend_size=7)
+
+
+def draw_implicit_scaling(d):
+    samples = [r for r in read_csv(os.path.join(d, "scaling.csv")) if r["quantity"] == "implicit_step"]
+    fits = {(r["quantity"], r["model"]): number(r["slope"])
+            for r in read_csv(os.path.join(d, "scaling_fits.csv"))}
+    plot_scaling(samples, fits, d, "scaling_implicit.png",
+                 "Implicit step (backward Euler, PCG to 1e-6) by preconditioner, box grids")
 
 
 def fmt(x, digits=3):
@@ -528,8 +537,14 @@ def main():
     parser.add_argument("--elapsed", type=float, default=float("nan"))
     parser.add_argument("--command", default="scripts/bench")
     parser.add_argument("--note", default="", help="what else ran on the machine, for the report")
+    parser.add_argument("--implicit-scaling", action="store_true",
+                        help="only draw DIR/scaling_implicit.png from DIR/scaling.csv and "
+                             "scaling_fits.csv (bench_scaling's implicit-step rows)")
     args = parser.parse_args()
     d = args.dir
+    if args.implicit_scaling:
+        draw_implicit_scaling(d)
+        return
 
     work_path = os.path.join(d, "work_precision.csv")
     runs = load_csv_runs(work_path)
