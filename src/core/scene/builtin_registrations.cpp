@@ -15,6 +15,8 @@ void registerTensorMassModel(Registry&);
 void registerStvkLaw(Registry&);
 void registerNeoHookeanLaw(Registry&);
 void registerVolumeLaw(Registry&);
+void registerHunterLaw(Registry&);
+void registerHunterPolynomialLaw(Registry&);
 // Integrators (src/core/integrate/*_registration.cpp).
 void registerBackwardEuler(Registry&);
 void registerNewtonian(Registry&);
@@ -29,6 +31,8 @@ void registerBuiltIns(Registry& registry) {
   registerStvkLaw(registry);
   registerNeoHookeanLaw(registry);
   registerVolumeLaw(registry);
+  registerHunterLaw(registry);
+  registerHunterPolynomialLaw(registry);
   registerBackwardEuler(registry);
   registerNewtonian(registry);
   registerRadauIIA(registry);

@@ -10,6 +10,8 @@
 #include <random>
 
 #include "../model_test_util.h"
+#include "tissue_trainer/core/material/hunter.h"
+#include "tissue_trainer/core/material/hunter_polynomial.h"
 #include "tissue_trainer/core/material/neo_hookean.h"
 #include "tissue_trainer/core/material/stvk.h"
 #include "tissue_trainer/core/material/volume.h"
@@ -30,6 +32,17 @@ std::vector<typename Law::Constants> constantsFor(const std::vector<Material>& m
       k.push_back({0.5 * m.lambda, 1.0});
     } else if constexpr (std::is_same_v<Law, NeoHookeanLaw>) {
       k.push_back(NeoHookeanLaw::constants(Material::isotropic(2.0 * m.mu * 1.4, 0.4, 1000.0)));
+    } else if constexpr (std::is_same_v<Law, HunterLaw>) {
+      // Table 2.1's stiffnesses scaled to the material and its exponents, with the poles moved
+      // past the large random strains of these checks (test_hunter.cpp has Table 2.1's poles).
+      HunterConstants c = HunterConstants::table21();
+      for (int t = 0; t < 6; ++t) c.k[t] *= m.mu / 1e3, c.a[t] += 10.0;
+      k.push_back(c);
+    } else if constexpr (std::is_same_v<Law, HunterPolynomialLaw>) {
+      // Table 2.1 as it is: the random strains go past the switch strains and the poles.
+      HunterPolynomialLaw::Constants c;
+      for (double& stiffness : c.hunter.k) stiffness *= m.mu / 1e3;
+      k.push_back(c);
     } else {
       k.push_back(Law::constants(m));
     }
@@ -78,7 +91,8 @@ class HyperelasticConformance : public ::testing::Test {
   }
 };
 
-using LawTypes = ::testing::Types<StvkLaw, NeoHookeanLaw, VolumeLaw>;
+using LawTypes =
+    ::testing::Types<StvkLaw, NeoHookeanLaw, VolumeLaw, HunterLaw, HunterPolynomialLaw>;
 TYPED_TEST_SUITE(HyperelasticConformance, LawTypes);
 
 TYPED_TEST(HyperelasticConformance, ForceIsMinusTheEnergyGradient) {

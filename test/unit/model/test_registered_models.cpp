@@ -2,11 +2,12 @@
 // the registry is checked without a test file of its own: force against energy and stiffness
 // against force by finite differences, a symmetric stiffness, K d against the assembled K, no
 // force at rest, invariance under translation and rotation. A preset is exempt from a check
-// only where kExempt says why.
+// only where kExempt says why, and checked at smaller motions only where kSmallerMotion says why.
 #include <gtest/gtest.h>
 
 #include <map>
 #include <set>
+#include <utility>
 
 #include "../model_test_util.h"
 #include "tissue_trainer/core/scene/registry.h"
@@ -26,6 +27,19 @@ const std::map<std::string, std::map<Check, const char*>> kExempt = {
     {"tensor_mass", {{kRotation, "linear elasticity: a rotation is a strain to it"}}},
 };
 
+// Presets checked at smaller random node motions than the 1e-3 m (10 % of the cells) of the
+// others, and why.
+const std::map<std::string, std::pair<double, const char*>> kSmallerMotion = {
+    {"hyperelastic_hunter",
+     {2e-4, "the pole-zero law has no state past its poles (Table 2.1: a fibre Green strain of "
+            "0.318), which 10 % random motions reach; hyperelastic_hunter_polynomial has none"}},
+};
+
+double motionFor(const std::string& preset) {
+  const auto it = kSmallerMotion.find(preset);
+  return it == kSmallerMotion.end() ? 1e-3 : it->second.first;
+}
+
 bool exempt(const std::string& preset, Check check) {
   const auto it = kExempt.find(preset);
   return it != kExempt.end() && it->second.count(check) > 0;
@@ -35,6 +49,7 @@ TEST(RegisteredModels, ExemptionsNameRegisteredPresets) {
   const std::vector<std::string> names = registry().presetNames();
   const std::set<std::string> known(names.begin(), names.end());
   for (const auto& [preset, checks] : kExempt) EXPECT_TRUE(known.count(preset)) << preset;
+  for (const auto& [preset, motion] : kSmallerMotion) EXPECT_TRUE(known.count(preset)) << preset;
   EXPECT_GE(names.size(), 7u);
 }
 
@@ -46,7 +61,7 @@ TEST(RegisteredModels, EveryPresetPassesThePhysicsChecks) {
     SCOPED_TRACE(preset);
     const auto model = makeElasticModel(preset, mesh, materials);
     const Eigen::VectorXd rest = restVector(mesh);
-    const Eigen::VectorXd x = perturbed(mesh, 1e-3, rng);
+    const Eigen::VectorXd x = perturbed(mesh, motionFor(preset), rng);
     const Eigen::VectorXd f = force(*model, x);
     EXPECT_LT(force(*model, rest).lpNorm<Eigen::Infinity>(), 1e-9 * f.lpNorm<Eigen::Infinity>());
     if (model->hasEnergy() && !exempt(preset, kEnergyGradient))

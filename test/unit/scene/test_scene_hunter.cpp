@@ -1,0 +1,184 @@
+// The Hunter laws in a scene: a material's `hunter` map (k in the entry's stress_unit, Table
+// 2.1 where left out) and `hunter_polynomial` map reach the laws, and each malformed entry is
+// one InputError naming the file, the line and the key.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "tissue_trainer/core/error.h"
+#include "tissue_trainer/core/material/hunter.h"
+#include "tissue_trainer/core/material/hunter_polynomial.h"
+#include "tissue_trainer/core/scene/scene.h"
+
+namespace tt {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Line numbers below refer to this text.
+const char* const kHunterScene = R"(name: myocardium_patch
+mesh: {generator: box, nodes: [3, 3, 3], size: [0.01, 0.01, 0.01]}
+fibres: {direction: [1, 1, 0]}
+materials:
+  - young_modulus: 3
+    poisson_ratio: 0.4
+    stress_unit: kPa
+    hunter:
+      k: [3.0, 0.1, 0.5, 1.5, 1.2, 0.9]
+      a: [0.35, 0.45, 1.1, 0.8, 0.75, 0.9]
+      b: [0.7, 2.0, 0.4, 2.1, 1.9, 2.2]
+force_models:
+  - type: hyperelastic
+    law: LAW
+integrator: {type: backward_euler}
+)";
+
+std::string writeScene(const std::string& name, const std::string& text) {
+  const fs::path dir = fs::temp_directory_path() / "tt_scene_tests";
+  fs::create_directories(dir);
+  const fs::path path = dir / name;
+  std::ofstream(path) << text;
+  return path.string();
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return at == std::string::npos ? text : text.replace(at, from.size(), to);
+}
+
+std::string withLaw(const std::string& law) { return replaced(kHunterScene, "LAW", law); }
+
+// The model's energy under a homogeneous deformation x = A X is V psi(A), psi the law's at
+// the constants the scene should have given it (the elements share one fibre frame).
+template <class Law>
+void expectLawConstants(const Scene& scene, const typename Law::Constants& expected) {
+  const System& s = scene.system;
+  ASSERT_EQ(s.models.size(), 1u);
+  Eigen::Matrix3d A;
+  A << 1.12, 0.04, -0.02, 0.03, 0.96, 0.05, -0.01, 0.02, 1.07;
+  Eigen::VectorXd x(3 * s.mesh.numNodes());
+  for (int n = 0; n < s.mesh.numNodes(); ++n) x.segment<3>(3 * n) = A * s.mesh.rest.col(n);
+  const double psi = Law::energy(Law::parameters(expected, s.mesh.fibreFrame[0]), A);
+  EXPECT_NEAR(s.models[0]->energy(x), 1e-6 * psi, 1e-12 * 1e-6 * psi);
+}
+
+TEST(HunterScene, MaterialKeysReachTheLaws) {
+  HunterConstants given;
+  given.k = {3000.0, 100.0, 500.0, 1500.0, 1200.0, 900.0};  // kPa in the scene
+  given.a = {0.35, 0.45, 1.1, 0.8, 0.75, 0.9};
+  given.b = {0.7, 2.0, 0.4, 2.1, 1.9, 2.2};
+  {
+    const Scene scene = loadScene(writeScene("hunter.yaml", withLaw("hunter")));
+    expectLawConstants<HunterLaw>(scene, given);
+    // The frame is the scene's: fibre along (1, 1, 0).
+    EXPECT_NEAR(scene.system.mesh.fibreFrame[0].col(0).dot(Eigen::Vector3d(1, 1, 0).normalized()),
+                1.0, 1e-15);
+  }
+  {
+    // Without the map, and with only some lists: Table 2.1 (k in kPa) for what is left out.
+    const std::string map = "    hunter:\n      k: [3.0, 0.1, 0.5, 1.5, 1.2, 0.9]\n"
+                            "      a: [0.35, 0.45, 1.1, 0.8, 0.75, 0.9]\n"
+                            "      b: [0.7, 2.0, 0.4, 2.1, 1.9, 2.2]\n";
+    const Scene none = loadScene(writeScene("hunter_default.yaml",
+                                            replaced(withLaw("hunter"), map, "")));
+    expectLawConstants<HunterLaw>(none, HunterConstants::table21());
+    const Scene empty = loadScene(writeScene("hunter_empty.yaml",
+                                             replaced(withLaw("hunter"), map, "    hunter: {}\n")));
+    expectLawConstants<HunterLaw>(empty, HunterConstants::table21());
+    HunterConstants onlyA = HunterConstants::table21();
+    onlyA.a = given.a;
+    const Scene partial = loadScene(writeScene(
+        "hunter_partial.yaml",
+        replaced(withLaw("hunter"), map, "    hunter:\n      a: [0.35, 0.45, 1.1, 0.8, 0.75, 0.9]\n")));
+    expectLawConstants<HunterLaw>(partial, onlyA);
+  }
+  {
+    HunterPolynomialLaw::Constants c;
+    c.hunter = given;
+    const Scene defaults = loadScene(writeScene("hunter_poly.yaml", withLaw("hunter_polynomial")));
+    expectLawConstants<HunterPolynomialLaw>(defaults, c);
+    c.switchFraction = 0.5;  // the deformation above passes this switch on the fibre term
+    c.degree = 5;
+    const Scene options = loadScene(writeScene(
+        "hunter_poly_options.yaml",
+        replaced(withLaw("hunter_polynomial"), "force_models:",
+                 "    hunter_polynomial: {switch_fraction: 0.5, degree: 5}\nforce_models:")));
+    expectLawConstants<HunterPolynomialLaw>(options, c);
+  }
+}
+
+struct BadScene {
+  const char* what;
+  std::string text;
+  long line;           // 1-based
+  const char* phrase;  // must appear in the message
+};
+
+TEST(HunterScene, EachMalformedEntryNamesFileLineAndKey) {
+  const std::string hunter = withLaw("hunter"), poly = withLaw("hunter_polynomial");
+  const std::string k = "k: [3.0, 0.1, 0.5, 1.5, 1.2, 0.9]";
+  const std::string a = "a: [0.35, 0.45, 1.1, 0.8, 0.75, 0.9]";
+  const std::string b = "b: [0.7, 2.0, 0.4, 2.1, 1.9, 2.2]";
+  const auto polyWith = [&](const std::string& map) {
+    return replaced(poly, "force_models:", "    hunter_polynomial: " + map + "\nforce_models:");
+  };
+  const std::vector<BadScene> cases = {
+      {"five stiffnesses", replaced(hunter, k, "k: [3.0, 0.1, 0.5, 1.5, 1.2]"), 9,
+       "materials[0].hunter.k: expected a list of 6 numbers k11, k22, k33, k12, k13, k23, got 5"},
+      {"seven poles", replaced(hunter, a, "a: [0.35, 0.45, 1.1, 0.8, 0.75, 0.9, 1]"), 10,
+       "materials[0].hunter.a: expected a list of 6 numbers a11, a22, a33, a12, a13, a23, got 7"},
+      {"exponents not a list", replaced(hunter, b, "b: 2"), 11,
+       "materials[0].hunter.b: expected a list, got '2'"},
+      {"negative stiffness", replaced(hunter, k, "k: [3.0, 0.1, 0.5, -1.5, 1.2, 0.9]"), 9,
+       "materials[0].hunter.k[3]: expected k12 >= 0, got '-1.5'"},
+      {"pole at zero", replaced(hunter, a, "a: [0, 0.45, 1.1, 0.8, 0.75, 0.9]"), 10,
+       "materials[0].hunter.a[0]: expected a11 > 0 (the pole"},
+      {"negative pole", replaced(hunter, a, "a: [0.35, 0.45, 1.1, 0.8, 0.75, -0.9]"), 10,
+       "materials[0].hunter.a[5]: expected a23 > 0 (the pole"},
+      {"negative exponent", replaced(hunter, b, "b: [0.7, 2.0, -0.4, 2.1, 1.9, 2.2]"), 11,
+       "materials[0].hunter.b[2]: expected b33 >= 0 (an exponent), got '-0.4'"},
+      {"a word for a number", replaced(hunter, k, "k: [3.0, 0.1, soft, 1.5, 1.2, 0.9]"), 9,
+       "materials[0].hunter.k[2]: expected a finite number, got 'soft'"},
+      {"unknown key in the map", replaced(hunter, b, "beta: [0.7, 2.0, 0.4, 2.1, 1.9, 2.2]"), 11,
+       "materials[0].hunter.beta: unknown key 'beta' (expected one of: k, a, b)"},
+      {"map given as a list",
+       replaced(hunter, "    hunter:\n      " + k + "\n      " + a + "\n      " + b, "    hunter: [1, 2]"),
+       8, "materials[0].hunter: expected a map, got a list"},
+      // (the line of the map's first key: a block map starts there)
+      {"hunter map with no model reading it", replaced(hunter, "law: hunter", "law: stvk"), 9,
+       "materials[0].hunter: read by the law 'hunter', which no force model of this scene uses"},
+      {"polynomial map with the pole-zero law",
+       replaced(hunter, "force_models:", "    hunter_polynomial: {degree: 4}\nforce_models:"), 12,
+       "materials[0].hunter_polynomial: read by the law 'hunter_polynomial', which no force model"},
+      {"switch at the pole", polyWith("{switch_fraction: 1}"), 12,
+       "materials[0].hunter_polynomial.switch_fraction: expected a fraction of the pole in (0, 1), got '1'"},
+      {"switch at zero", polyWith("{switch_fraction: 0}"), 12, "in (0, 1), got '0'"},
+      {"degree 1", polyWith("{degree: 1}"), 12,
+       "materials[0].hunter_polynomial.degree: expected an integer >= 2, got '1'"},
+      {"degree 7", polyWith("{degree: 7}"), 12,
+       "materials[0].hunter_polynomial.degree: expected a degree in [2, 6], got '7'"},
+      {"fractional degree", polyWith("{degree: 2.5}"), 12, "expected an integer, got '2.5'"},
+      {"unknown polynomial key", polyWith("{order: 3}"), 12,
+       "materials[0].hunter_polynomial.order: unknown key 'order' (expected one of: switch_fraction, degree)"},
+  };
+  for (const BadScene& c : cases) {
+    const std::string path = writeScene("bad_hunter.yaml", c.text);
+    try {
+      loadScene(path);
+      ADD_FAILURE() << c.what << ": no error";
+    } catch (const InputError& e) {
+      const std::string message = e.what();
+      EXPECT_EQ(e.file(), path) << c.what;
+      EXPECT_EQ(e.line(), c.line) << c.what << ": " << message;
+      EXPECT_NE(message.find(c.phrase), std::string::npos) << c.what << ": " << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos) << c.what << ": one line";
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tt
