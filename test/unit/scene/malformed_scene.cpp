@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "scene_test_util.h"
 #include "tissue_trainer/core/error.h"
 #include "tissue_trainer/core/scene/scene.h"
 
@@ -36,13 +37,7 @@ loads:
 run: {frame_time: 0.01, duration: 0.05}
 )";
 
-std::string writeScene(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::temp_directory_path() / "tt_scene_tests";
-  fs::create_directories(dir);
-  const fs::path path = dir / name;
-  std::ofstream(path) << text;
-  return path.string();
-}
+using testutil::writeScene;
 
 // Replaces the first occurrence of `from` in the good scene.
 std::string edited(const std::string& from, const std::string& to) {
@@ -52,12 +47,7 @@ std::string edited(const std::string& from, const std::string& to) {
   return text.replace(at, from.size(), to);
 }
 
-struct BadScene {
-  const char* what;
-  std::string text;
-  long line;              // expected line (1-based); 0 = no line
-  const char* phrase;     // must appear in the message
-};
+using testutil::BadScene;
 
 TEST(MalformedScene, GoodSceneLoads) {
   const Scene scene = loadScene(writeScene("good.yaml", kGoodScene));
@@ -115,19 +105,7 @@ TEST(MalformedScene, EachErrorNamesFileLineAndKey) {
       {"volume ratio of 1", edited("run:", "stability_guard: {min_volume_ratio: 1}\nrun:"), 21, "stability_guard.min_volume_ratio: expected a volume ratio in [0, 1)"},
       {"guard enabled not a boolean", edited("run:", "stability_guard:\n  enabled: maybe\nrun:"), 22, "stability_guard.enabled: expected true or false"},
   };
-  for (const BadScene& c : cases) {
-    const std::string path = writeScene("bad.yaml", c.text);
-    try {
-      loadScene(path);
-      ADD_FAILURE() << c.what << ": no error";
-    } catch (const InputError& e) {
-      const std::string message = e.what();
-      EXPECT_EQ(e.file(), path) << c.what;
-      if (c.line > 0) EXPECT_EQ(e.line(), c.line) << c.what << ": " << message;
-      EXPECT_NE(message.find(c.phrase), std::string::npos) << c.what << ": " << message;
-      EXPECT_EQ(message.find('\n'), std::string::npos) << c.what << ": one line";
-    }
-  }
+  testutil::expectEachSceneFailsClearly(cases, "bad.yaml");
 }
 
 // TetGen files: three good tets and a flat one (tet 3, in the plane z = 0) whose nodes the

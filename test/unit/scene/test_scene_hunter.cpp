@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "scene_test_util.h"
 #include "tissue_trainer/core/error.h"
 #include "tissue_trainer/core/material/hunter.h"
 #include "tissue_trainer/core/material/hunter_polynomial.h"
@@ -36,13 +37,7 @@ force_models:
 integrator: {type: backward_euler}
 )";
 
-std::string writeScene(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::temp_directory_path() / "tt_scene_tests";
-  fs::create_directories(dir);
-  const fs::path path = dir / name;
-  std::ofstream(path) << text;
-  return path.string();
-}
+using testutil::writeScene;
 
 std::string replaced(std::string text, const std::string& from, const std::string& to) {
   const size_t at = text.find(from);
@@ -111,12 +106,7 @@ TEST(HunterScene, MaterialKeysReachTheLaws) {
   }
 }
 
-struct BadScene {
-  const char* what;
-  std::string text;
-  long line;           // 1-based
-  const char* phrase;  // must appear in the message
-};
+using testutil::BadScene;
 
 TEST(HunterScene, EachMalformedEntryNamesFileLineAndKey) {
   const std::string hunter = withLaw("hunter"), poly = withLaw("hunter_polynomial");
@@ -165,19 +155,7 @@ TEST(HunterScene, EachMalformedEntryNamesFileLineAndKey) {
       {"unknown polynomial key", polyWith("{order: 3}"), 12,
        "materials[0].hunter_polynomial.order: unknown key 'order' (expected one of: switch_fraction, degree)"},
   };
-  for (const BadScene& c : cases) {
-    const std::string path = writeScene("bad_hunter.yaml", c.text);
-    try {
-      loadScene(path);
-      ADD_FAILURE() << c.what << ": no error";
-    } catch (const InputError& e) {
-      const std::string message = e.what();
-      EXPECT_EQ(e.file(), path) << c.what;
-      EXPECT_EQ(e.line(), c.line) << c.what << ": " << message;
-      EXPECT_NE(message.find(c.phrase), std::string::npos) << c.what << ": " << message;
-      EXPECT_EQ(message.find('\n'), std::string::npos) << c.what << ": one line";
-    }
-  }
+  testutil::expectEachSceneFailsClearly(cases, "bad_hunter.yaml");
 }
 
 }  // namespace

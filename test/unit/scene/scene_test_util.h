@@ -1,0 +1,53 @@
+#pragma once
+// Shared by the scene tests: a scene text written to a file of the temporary directory, and
+// the check that each of a list of malformed scenes fails with one clear line.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "tissue_trainer/core/error.h"
+#include "tissue_trainer/core/scene/scene.h"
+
+namespace tt {
+namespace testutil {
+
+// Writes `text` to <temp>/tt_scene_tests/<name> and returns that path.
+inline std::string writeScene(const std::string& name, const std::string& text) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "tt_scene_tests";
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path path = dir / name;
+  std::ofstream(path) << text;
+  return path.string();
+}
+
+struct BadScene {
+  const char* what;
+  std::string text;
+  long line;           // expected line (1-based); 0: not checked
+  const char* phrase;  // must appear in the message
+};
+
+// Each scene, written to `fileName`, fails to load with one InputError line naming the file,
+// the line and the phrase.
+inline void expectEachSceneFailsClearly(const std::vector<BadScene>& cases,
+                                        const std::string& fileName) {
+  for (const BadScene& c : cases) {
+    const std::string path = writeScene(fileName, c.text);
+    try {
+      loadScene(path);
+      ADD_FAILURE() << c.what << ": no error";
+    } catch (const InputError& e) {
+      const std::string message = e.what();
+      EXPECT_EQ(e.file(), path) << c.what;
+      if (c.line > 0) EXPECT_EQ(e.line(), c.line) << c.what << ": " << message;
+      EXPECT_NE(message.find(c.phrase), std::string::npos) << c.what << ": " << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos) << c.what << ": one line";
+    }
+  }
+}
+
+}  // namespace testutil
+}  // namespace tt
