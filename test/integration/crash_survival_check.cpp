@@ -34,7 +34,7 @@ struct Wrench {
   bool finite;
 };
 struct Model {
-  double arrival;
+  double arrival, stamp;  // wall clock at arrival; the simulation's stamp (same host)
   bool inContact;
   std::uint64_t sequence;
 };
@@ -76,7 +76,8 @@ TEST(CrashSurvival, BridgeFadesSimulationResumesFromSnapshotRecordingAndReportGo
   auto sub2 = nh.subscribe<tissue_trainer::ContactModel>(
       "/tissue/contact", 200, [&](const tissue_trainer::ContactModel::ConstPtr& m) {
         std::lock_guard<std::mutex> lock(w.mutex);
-        w.models.push_back({now(), static_cast<bool>(m->in_contact), m->sequence});
+        w.models.push_back({now(), m->header.stamp.toSec(), static_cast<bool>(m->in_contact),
+                            m->sequence});
       }, ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
   auto sub3 = nh.subscribe<tissue_trainer::TissueStatus>(
       "/tissue/status", 200, [&](const tissue_trainer::TissueStatus::ConstPtr& m) {
@@ -150,6 +151,24 @@ TEST(CrashSurvival, BridgeFadesSimulationResumesFromSnapshotRecordingAndReportGo
               "(kill to the first new model %.3f s)\n", forceBefore, gap, firstNewModel - killWall);
   EXPECT_LT(firstNewModel - killWall, 2.5);
 
+  // This node may connect to the new simulation later than the bridge and miss its first
+  // models (they are not latched): the new models began (sequence - 1) steps before the first
+  // one seen here, one step period (measured on the old models) each.
+  ASSERT_GE(modelsBefore, 2u);
+  const Model& firstOld = models.front();
+  const Model& lastSeenOld = models[modelsBefore - 1];
+  const double modelPeriod = (lastSeenOld.stamp - firstOld.stamp) /
+                            static_cast<double>(lastSeenOld.sequence - firstOld.sequence);
+  const Model* firstNew = nullptr;
+  for (const Model& m : models)
+    if (m.arrival == firstNewModel) firstNew = &m;
+  ASSERT_NE(firstNew, nullptr);
+  const double newModelsFrom = std::min(
+      firstNewModel, firstNew->stamp - (static_cast<double>(firstNew->sequence) - 1.0) * modelPeriod);
+  std::printf("crash_survival: first new model seen here has sequence %llu; the new models began "
+              "%.3f s before it arrived\n", static_cast<unsigned long long>(firstNew->sequence),
+              firstNewModel - newModelsFrom);
+
   // The bridge: finite, bounded, ~1 kHz throughout, zero from model_timeout + fade_time after
   // the last model until the new models.
   const double zeroFrom = lastOldModel + modelTimeout + fadeTime + 0.02;
@@ -157,7 +176,7 @@ TEST(CrashSurvival, BridgeFadesSimulationResumesFromSnapshotRecordingAndReportGo
   for (const Wrench& x : wrenches) {
     if (!x.finite) ++nonFinite;
     if (x.norm > maxForce + 1e-9) ++above;
-    if (x.arrival > zeroFrom && x.arrival < firstNewModel) {
+    if (x.arrival > zeroFrom && x.arrival < newModelsFrom) {
       ++inGap;
       if (x.norm != 0.0) ++nonZeroInGap;
     }
@@ -175,10 +194,10 @@ TEST(CrashSurvival, BridgeFadesSimulationResumesFromSnapshotRecordingAndReportGo
   // The force comes back smoothly: over the bridge's resume ramp (resume_time after the first
   // new model, with a margin) no tick changes it by more than a tenth of what it reaches; after
   // it, the tissue's own dynamics move it, within the bridge's rate limit.
-  const double rampEnd = firstNewModel + resumeTime + 0.05;
+  const double rampEnd = newModelsFrom + resumeTime + 0.05;
   double peakAfter = 0.0, rampStep = 0.0, largestStep = 0.0;
   for (std::size_t i = 1; i < wrenches.size(); ++i) {
-    if (wrenches[i].arrival < firstNewModel) continue;
+    if (wrenches[i].arrival < newModelsFrom) continue;
     peakAfter = std::max(peakAfter, wrenches[i].norm);
     const double step = std::abs(wrenches[i].norm - wrenches[i - 1].norm);
     largestStep = std::max(largestStep, step);
@@ -199,11 +218,11 @@ TEST(CrashSurvival, BridgeFadesSimulationResumesFromSnapshotRecordingAndReportGo
   ASSERT_GE(firstResumed, 2u) << "fewer than two statuses from the simulation before the kill";
   const Status* resumed = &statuses[firstResumed];
   const double diedAt = statuses[firstResumed - 1].simulationTime;
-  const double stepPeriod = diedAt - statuses[firstResumed - 2].simulationTime;
+  const double simulatedStep = diedAt - statuses[firstResumed - 2].simulationTime;
   std::printf("crash_survival: died at t = %.3f s, resumed at t = %.3f s (first status %.3f s "
               "after the kill)\n", diedAt, resumed->resumedAt, resumed->arrival - killWall);
   EXPECT_GE(resumed->resumedAt, diedAt - 0.75);
-  EXPECT_LE(resumed->resumedAt, diedAt + stepPeriod + 1e-9);
+  EXPECT_LE(resumed->resumedAt, diedAt + simulatedStep + 1e-9);
   EXPECT_GE(resumed->simulationTime, resumed->resumedAt);
   EXPECT_LT(resumed->simulationTime, diedAt + 0.5);
 
