@@ -213,9 +213,7 @@ std::vector<Run> runAll(const Start& start, int steps) {
   BackwardEulerParams scene;  // liver_palpation.yaml
   scene.preconditioner = BackwardEulerParams::Preconditioning::kCholesky;
   scene.linearTolerance = 1e-3;
-  BackwardEulerParams tight;  // bench_implicit_step's reference
-  tight.linearTolerance = 1e-10;
-  tight.linearMaxIterations = 20000;
+  const BackwardEulerParams tight = bench::tightBackwardEuler();  // bench_implicit_step's reference
   std::vector<Run> runs;
   for (const std::string model : {"edge_length", "hyperelastic_neo_hookean"}) {
     runs.push_back(runOurs(start, model, tight, "jacobi 1e-10", true, steps));

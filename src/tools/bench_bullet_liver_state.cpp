@@ -51,13 +51,6 @@ std::string refinedLiver(const fs::path& dir, const std::string& switches) {
   return (dir / "liver.1.ele").string();
 }
 
-BackwardEulerParams tightParams() {
-  BackwardEulerParams p;
-  p.linearTolerance = 1e-10;
-  p.linearMaxIterations = 20000;
-  return p;
-}
-
 void writeState(const fs::path& path, const std::string& scene, const Eigen::VectorXd& x,
                 const Eigen::VectorXd& force) {
   FILE* out = std::fopen(path.c_str(), "w");
@@ -79,9 +72,8 @@ int run(const fs::path& dir, const std::string& switches) {
   Scene scene = loadScene(scenePath.string());
   System& system = scene.system;
 
-  BackwardEulerIntegrator settle(tightParams());
-  for (int s = 0; s < 30; ++s) settle.advance(system, 0.1);
-  system.state.v.setZero();
+  BackwardEulerIntegrator settle(bench::tightBackwardEuler());
+  bench::sagToRest(system, settle);
   const Eigen::VectorXd sagged = system.state.x;
 
   ToolShape sphere;

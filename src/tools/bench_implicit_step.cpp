@@ -111,9 +111,8 @@ class Bench {
   // runs 10 steps: the start of every row, as a trainee finds the liver.
   void prepare() {
     Scene scene = loadScene(scenePath_);
-    BackwardEulerIntegrator settle(tightParams());
-    for (int s = 0; s < 30; ++s) settle.advance(scene.system, 0.1);
-    scene.system.state.v.setZero();
+    BackwardEulerIntegrator settle(bench::tightBackwardEuler());
+    bench::sagToRest(scene.system, settle);
     toolPose_ = bench::pressingPose(scene.system, kToolRadius, 0.006);
     auto contact = makeContact(scene);
     for (int s = 0; s < 10; ++s) {
@@ -138,7 +137,7 @@ class Bench {
     params.choleskyBackend = setup.backend;
     params.refactorIterations = setup.refactorIterations;
     BackwardEulerIntegrator integrator(params);
-    BackwardEulerIntegrator reference(tightParams());
+    BackwardEulerIntegrator reference(bench::tightBackwardEuler());
     Result r;
     for (int s = 0; s < steps_ + kUntimed; ++s) {
       auto t0 = Clock::now();
@@ -222,15 +221,6 @@ class Bench {
   static constexpr double kStep = 0.01;
   static constexpr int kUntimed = 3;
   static constexpr double kToolRadius = 0.006;
-
-  // The reference and the settling steps: Jacobi-PCG to 1e-10 (a Cholesky factor would need
-  // BiCGSTAB and thousands of iterations where the pressed liver's matrix is indefinite).
-  static BackwardEulerParams tightParams() {
-    BackwardEulerParams p;
-    p.linearTolerance = 1e-10;
-    p.linearMaxIterations = 20000;
-    return p;
-  }
 
   std::unique_ptr<TissueContact> makeContact(Scene& scene) const {
     ToolShape sphere;

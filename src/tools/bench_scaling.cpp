@@ -1,8 +1,8 @@
 // Scaling with the mesh size: time per force evaluation (every elastic model), per explicit
 // step (Newtonian scheme) and per implicit step (linearised backward Euler, h = 10 ms, under
 // gravity, bottom fixed; PCG to 1e-6 with each preconditioner: the model column says which)
-// of the edge_length fast model, on box grids of 6 tets per cell from about 1e3 to 1e5 tets. One thread; medians of repeats; the fitted log-log slope of time
-// against tets per quantity. Writes DIR/scaling.csv and DIR/scaling_fits.csv.
+// of the edge_length fast model, on box grids of 6 tets per cell from about 1e3 to 1e5 tets.
+// One thread; medians of repeats; the fitted log-log slope of time against tets per quantity. Writes DIR/scaling.csv and DIR/scaling_fits.csv.
 //   bench_scaling [--quick] [--out DIR]
 #include <cmath>
 #include <cstdio>

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/system.h"
 
 namespace tt {
@@ -47,6 +48,23 @@ inline void writeLiverSceneWithMesh(const std::string& mesh, const std::string& 
   std::ofstream out(path);
   out << scene;
   if (!out) throw std::runtime_error("cannot write " + path);
+}
+
+// The reference of the benchmarks' step errors, and of the settling steps: Jacobi-PCG to 1e-10
+// (a Cholesky factor would need BiCGSTAB and thousands of iterations where the pressed liver's
+// matrix is indefinite).
+inline BackwardEulerParams tightBackwardEuler() {
+  BackwardEulerParams p;
+  p.linearTolerance = 1e-10;
+  p.linearMaxIterations = 20000;
+  return p;
+}
+
+// Lets the liver sag to rest under gravity (3 s in steps of 0.1 s, solved tightly; the mass
+// damping and backward Euler's own damping settle it), then zeroes the velocity.
+inline void sagToRest(System& system, BackwardEulerIntegrator& settle) {
+  for (int s = 0; s < 30; ++s) settle.advance(system, 0.1);
+  system.state.v.setZero();
 }
 
 // A sphere of `radius` pressed `depth` into the highest point (z) of the liver within 2 cm

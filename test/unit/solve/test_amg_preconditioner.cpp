@@ -55,7 +55,7 @@ TEST(AmgPreconditioner, PcgReachesTheDirectSolutionInAFractionOfJacobisIteration
   ASSERT_LT((A * direct - b).norm(), 1e-10 * b.norm());
 
   AmgPreconditioner amg;
-  ASSERT_TRUE(amg.setup(A)) << amg.lastError();
+  ASSERT_TRUE(amg.setup(A)) << amg.lastRefusal();
   EXPECT_TRUE(amg.ready());
   EXPECT_EQ(amg.builds(), 1);
   JacobiPreconditioner jacobi;
@@ -71,7 +71,7 @@ TEST(AmgPreconditioner, PcgReachesTheDirectSolutionInAFractionOfJacobisIteration
 TEST(AmgPreconditioner, TheVCycleIsAFixedSymmetricPositiveDefiniteMap) {
   const SparseMatrix A = boxStepMatrix(6, 0.05);
   AmgPreconditioner amg;
-  ASSERT_TRUE(amg.setup(A)) << amg.lastError();
+  ASSERT_TRUE(amg.setup(A)) << amg.lastRefusal();
   const Eigen::VectorXd u = randomVector(A.rows(), 1), v = randomVector(A.rows(), 2);
   Eigen::VectorXd Mu, Mv, Mw;
   amg.apply(u, Mu);
@@ -108,20 +108,20 @@ TEST(AmgPreconditioner, AHypreErrorIsARefusedSetupWithHypresMessage) {
   EXPECT_FALSE(broken.ready());
   EXPECT_EQ(broken.refusals(), 1);
   EXPECT_EQ(broken.builds(), 0);
-  EXPECT_NE(broken.lastError().find("hypre BoomerAMG configuration failed"), std::string::npos)
-      << broken.lastError();
-  EXPECT_NE(broken.lastError().find("argument"), std::string::npos) << broken.lastError();
+  EXPECT_NE(broken.lastRefusal().find("hypre BoomerAMG configuration failed"), std::string::npos)
+      << broken.lastRefusal();
+  EXPECT_NE(broken.lastRefusal().find("argument"), std::string::npos) << broken.lastRefusal();
   const Eigen::VectorXd r = randomVector(A.rows(), 5);
   Eigen::VectorXd z;
   broken.apply(r, z);  // no hierarchy: the identity
   EXPECT_EQ(z, r);
 
   EXPECT_FALSE(broken.setup(SparseMatrix(6, 3)));
-  EXPECT_NE(broken.lastError().find("square"), std::string::npos) << broken.lastError();
+  EXPECT_NE(broken.lastRefusal().find("square"), std::string::npos) << broken.lastRefusal();
 
   // hypre's error flag is global: cleared, so another preconditioner works.
   AmgPreconditioner good;
-  EXPECT_TRUE(good.setup(A)) << good.lastError();
+  EXPECT_TRUE(good.setup(A)) << good.lastRefusal();
   good.apply(r, z);
   EXPECT_TRUE(z.allFinite());
   EXPECT_GT(r.dot(z), 0.0);

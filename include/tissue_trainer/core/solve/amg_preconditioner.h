@@ -18,7 +18,7 @@
 // (a singleton process; OpenMPI starts its helper daemon for it) unless the program has, and
 // BoomerAMG runs on the calling thread whatever tt::threadCount() says. A hypre error does not
 // abort: it is a refused set-up (the previous hierarchy is gone; ready() is false) or, in
-// apply(), z = r for the rest of that solve; lastError() says what hypre reported.
+// apply(), z = r for the rest of that solve; lastRefusal() says what hypre reported.
 #include <Eigen/Core>
 #include <memory>
 #include <string>
@@ -45,7 +45,7 @@ class AmgPreconditioner final : public RebuiltPreconditioner {
   AmgPreconditioner& operator=(const AmgPreconditioner&) = delete;
 
   // Builds the hierarchy of the square matrix A (copied into hypre: A may change at once).
-  // False on a hypre error (lastError()), and then no hierarchy serves.
+  // False on a hypre error (lastRefusal()), and then no hierarchy serves.
   bool setup(const SparseMatrix& A);
   bool rebuild(const SparseMatrix& A) override { return setup(A); }
   bool rebuildNow(const SparseMatrix& A) override { return setup(A); }
@@ -55,7 +55,6 @@ class AmgPreconditioner final : public RebuiltPreconditioner {
   bool busy() const override { return false; }
   int builds() const override { return setups_; }
   int refusals() const override { return failures_; }  // failed set-ups and V-cycles
-  const std::string& lastError() const { return lastError_; }
   const std::string& lastRefusal() const override { return lastError_; }
 
   // One V-cycle on A z = r from z = 0 (z = r when no hierarchy serves).
