@@ -427,6 +427,31 @@ TEST(BackwardEuler, StiffBlockStaysFiniteAtRest) {
   EXPECT_LT((s.state.x - s.mesh.rest.reshaped()).lpNorm<Eigen::Infinity>(), 1e-12);
 }
 
+// One step by hand on m u'' = -k u - c u' (m = 2, k = 8, c = 0.5, u0 = 0.1, v0 = -0.3,
+// h = 0.05). The Adamss chapter's Eqs 2.129-2.130 as printed advance the position with the old
+// velocity: u1 = u0 + h v0 = 0.085, v1 = v0 + h (-k u0 - c v0) / m = -0.31625. The
+// symplectic variant takes the new one instead: u1 = u0 + h v1 = 0.0841875.
+TEST(ExplicitEuler, OneStepMatchesEquations2129And2130AsPrinted) {
+  Oscillators o = harmonic(0.5);
+  o.m = 2.0;
+  o.k = Eigen::VectorXd::Constant(12, 8.0);
+  o.u0 = Eigen::VectorXd::Constant(12, 0.1);
+  o.v0 = Eigen::VectorXd::Constant(12, -0.3);
+  const double h = 0.05;
+  for (bool symplectic : {false, true}) {
+    System s = o.build();
+    ExplicitEulerIntegrator integrator(ExplicitEulerParams{h, symplectic});
+    const StepReport r = integrator.advance(s, h);
+    ASSERT_TRUE(r.ok) << r.failure;
+    EXPECT_EQ(r.substeps, 1);
+    const Eigen::VectorXd u = s.state.x - restVector(s);
+    for (int dof = 0; dof < 12; ++dof) {
+      EXPECT_NEAR(s.state.v[dof], -0.31625, 1e-14) << "dof " << dof;
+      EXPECT_NEAR(u[dof], symplectic ? 0.0841875 : 0.085, 1e-14) << "dof " << dof;
+    }
+  }
+}
+
 TEST(ExplicitEuler, ForwardEulerMultipliesEnergyBy1PlusHOmegaSquared) {
   Oscillators o = harmonic(0.0);
   System s = o.build();
