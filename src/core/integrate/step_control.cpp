@@ -112,7 +112,8 @@ bool HalvingDoublingControl::keeps(double, const StepMeasure& m) const {
 
 double HalvingDoublingControl::afterKeep(double h, const StepMeasure& m, bool) {
   const double q = measured(m);
-  if (q <= params_.lower) return 2.0 * h;
+  // A doubling the method cannot take (its history is too short) waits.
+  if (q <= params_.lower) return 2.0 * h <= m.nextStepCap * (1.0 + 1e-9) ? 2.0 * h : h;
   if (q > params_.upper) return 0.5 * h;
   return h;
 }

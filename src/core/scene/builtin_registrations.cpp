@@ -22,6 +22,7 @@ void registerBackwardEuler(Registry&);
 void registerNewtonian(Registry&);
 void registerRadauIIA(Registry&);
 void registerExplicitEuler(Registry&);
+void registerAbm3(Registry&);
 
 void registerBuiltIns(Registry& registry) {
   registerEdgeLengthModel(registry);
@@ -37,6 +38,7 @@ void registerBuiltIns(Registry& registry) {
   registerNewtonian(registry);
   registerRadauIIA(registry);
   registerExplicitEuler(registry);
+  registerAbm3(registry);
 }
 
 }  // namespace tt

@@ -179,6 +179,28 @@ StepAttempt withIterations(int n) {
   return a;
 }
 
+// A method whose history cannot serve a doubled step says so through nextStepCap (abm3): the
+// step is held instead of doubled, and doubles once the cap allows it.
+TEST(HalvingDoublingControl, ADoublingPastTheMethodsCapWaits) {
+  System s = harmonic(0.0).build();
+  HalvingDoublingParams p;
+  p.quantity = HalvingDoublingParams::Quantity::kIterations;
+  p.lower = 2;
+  p.upper = 10;
+  p.initialStep = 0.01;
+  Scripted method(std::make_unique<HalvingDoublingControl>(p));
+  method.rule = [&](const StepContext& step) {
+    StepAttempt a = withIterations(1);
+    a.measure.nextStepCap = method.attempts.size() < 3 ? step.h : 2.0 * step.h;
+    return a;
+  };
+  ASSERT_TRUE(method.advance(s, 0.1).ok);
+  ASSERT_GE(method.attempts.size(), 4u);
+  EXPECT_DOUBLE_EQ(method.attempts[1].h, 0.01);
+  EXPECT_DOUBLE_EQ(method.attempts[2].h, 0.01);
+  EXPECT_DOUBLE_EQ(method.attempts[3].h, 0.02);
+}
+
 TEST(FixedStepControl, EqualStepsFromACountOrALongestLength) {
   EXPECT_EQ(FixedStepControl::ofLength(1e-3).equalSteps(0.01, 1), 10);
   EXPECT_EQ(FixedStepControl::ofLength(1e-3).equalSteps(0.01, 2), 20);

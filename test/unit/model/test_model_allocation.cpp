@@ -1,11 +1,13 @@
 // The per-element loops of the tet models (force, energy, stiffness assembly) allocate
-// nothing: global operator new is counted while a model evaluates.
+// nothing: global operator new is counted while a model evaluates. The abm3 integrator's
+// step loop is checked here too (the counter can live in one file only).
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <cstdlib>
 
 #include "../model_test_util.h"
+#include "tissue_trainer/core/integrate/abm3.h"
 #include "tissue_trainer/core/model/edge_length.h"
 #include "tissue_trainer/core/model/gravity.h"
 #include "tissue_trainer/core/model/stvk_displacement.h"
@@ -77,6 +79,33 @@ TEST(ModelAllocation, EvaluationLoopsDoNotAllocate) {
     EXPECT_EQ(allocationsDuring([&] { model->energy(x); }), 0) << model->name();
     EXPECT_EQ(allocationsDuring([&] { model->addStiffness(x, 0.5, pattern, K); }), 0)
         << model->name();
+  }
+}
+
+// After the first frame sized its buffers, a frame of 40 steps allocates what a frame of one
+// step does (the frame loop's copy of the initial state): the steps themselves allocate nothing.
+TEST(Abm3Allocation, StepLoopDoesNotAllocateAfterTheFirstStep) {
+#if !TT_COUNT_MALLOC
+  GTEST_SKIP() << "malloc is not countable in this build";
+#endif
+  std::mt19937 rng(7);
+  const Mesh m = boxMesh(2, 2, 2, 0.01, rng);
+  for (bool adaptive : {false, true}) {
+    for (auto interpolation :
+         {Abm3Params::Interpolation::kLinear, Abm3Params::Interpolation::kHermite}) {
+      System s(m, testMaterials());
+      s.models.push_back(std::make_unique<TensorMassModel>(s.mesh, s.materials));
+      s.state.x = perturbed(m, 0.0005, rng);
+      Abm3Params p;
+      p.adaptive = adaptive;
+      p.timeStep = 1e-5;
+      p.interpolation = interpolation;
+      Abm3Integrator integrator(p);
+      ASSERT_TRUE(integrator.advance(s, 1e-4).ok);
+      const long one = allocationsDuring([&] { integrator.advance(s, 1e-5); });
+      const long many = allocationsDuring([&] { integrator.advance(s, 4e-4); });
+      EXPECT_EQ(many, one) << (adaptive ? "adaptive" : "fixed");
+    }
   }
 }
 

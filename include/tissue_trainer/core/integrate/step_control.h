@@ -130,7 +130,7 @@ class ErrorStepControl : public StepSizeController {
 struct HalvingDoublingParams {
   enum class Quantity { kError, kIterations };
   Quantity quantity = Quantity::kError;
-  double lower = 0.0;  // at or below: the next step is twice as long
+  double lower = 0.0;  // at or below: the next step is twice as long (unless past nextStepCap)
   double upper = 1.0;  // above: the step is halved (and redone if rejectAboveUpper)
   bool rejectAboveUpper = true;
   double initialStep = 1e-3, minStep = 1e-12, maxStep = 1e30;  // s
