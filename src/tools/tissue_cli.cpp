@@ -1,6 +1,7 @@
 // tissue_cli: the command-line face of the core. Its output is a contract other checks rely
 // on (docs/cli.md). Exit codes: 0 ok, 2 bad input or usage, 3 the simulation
 // failed (non-finite state or no convergence).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -27,7 +28,7 @@ constexpr int kOk = 0, kBadInput = 2, kRunFailed = 3;
 
 const char* const kUsage =
     "usage:\n"
-    "  tissue_cli info MESH\n"
+    "  tissue_cli info MESH | SCENE.yaml   (a scene adds shortest_edge, wave_speed, critical_step)\n"
     "  tissue_cli convert IN OUT            (OUT: .vtu, .msh (Gmsh v2), .vtk, .node/.ele (TetGen))\n"
     "  tissue_cli run SCENE.yaml [--duration T] [--out DIR] [--threads N]\n"
     "                                       (N: threads of the element loops, default: the cores)\n"
@@ -81,8 +82,44 @@ struct Arguments {
   }
 };
 
+bool isScene(const std::string& path) {
+  const auto endsWith = [&](const char* suffix) {
+    const size_t n = std::strlen(suffix);
+    return path.size() >= n && path.compare(path.size() - n, n, suffix) == 0;
+  };
+  return endsWith(".yaml") || endsWith(".yml");
+}
+
+// Speed of the longitudinal (P) wave, sqrt((lambda + 2 mu) / rho), with the larger of the
+// transverse and the fibre pair (m/s).
+double pWaveSpeed(const tt::Material& m) {
+  return std::sqrt(std::max(m.lambda + 2.0 * m.mu, m.lambdaL + 2.0 * m.muL) / m.density);
+}
+
+// The scene's placed mesh, then the critical step of "Adamss: Advanced Anisotropic
+// Mass-Spring System", Sec. 2.5.6: h_c = L / c (Eq. 2.150), L the shortest element edge and c
+// the fastest P-wave speed of the scene's materials.
+int infoOfScene(const std::string& path) {
+  const tt::Scene scene = tt::loadScene(path);
+  const tt::System& s = scene.system;
+  std::cout << "scene " << scene.name << " (" << path << ")\n";
+  for (const auto& note : scene.notes) std::cout << "note " << note << "\n";
+  std::cout << tt::formatQuality(tt::meshQuality(s.mesh));
+  const double edge = tt::shortestEdge(s.mesh);
+  int fastest = 0;
+  for (int m = 1; m < static_cast<int>(s.materials.size()); ++m)
+    if (pWaveSpeed(s.materials[m]) > pWaveSpeed(s.materials[fastest])) fastest = m;
+  const double c = s.materials.empty() ? 0.0 : pWaveSpeed(s.materials[fastest]);
+  std::printf("shortest_edge %.6g m\n", edge);
+  std::printf("wave_speed %.6g m/s (P-wave sqrt((lambda + 2 mu) / rho), the fastest material: "
+              "%d)\n", c, fastest);
+  std::printf("critical_step %.6g s (h_c = L / c, Eq. 2.150)\n", edge / c);
+  return kOk;
+}
+
 int info(const Arguments& args) {
-  if (args.positional.size() != 1) throw UsageError("info expects one MESH");
+  if (args.positional.size() != 1) throw UsageError("info expects one MESH or SCENE.yaml");
+  if (isScene(args.positional[0])) return infoOfScene(args.positional[0]);
   tt::ReadNotes notes;
   tt::Mesh mesh = tt::readMesh(args.positional[0], &notes);
   std::cout << "mesh " << args.positional[0] << "\n";

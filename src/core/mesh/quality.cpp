@@ -209,6 +209,21 @@ void removeTets(Mesh& mesh, const std::vector<int>& tets) {
   keep(mesh.tets);
 }
 
+double shortestEdge(const Mesh& mesh) {
+  static constexpr int kTetEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+  static constexpr int kHexEdges[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
+                                           {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+  double shortest = std::numeric_limits<double>::infinity();
+  const auto edge = [&](int a, int b) {
+    shortest = std::min(shortest, (mesh.rest.col(a) - mesh.rest.col(b)).norm());
+  };
+  for (const Tet& t : mesh.tets)
+    for (const auto& e : kTetEdges) edge(t[e[0]], t[e[1]]);
+  for (const Hex& h : mesh.hexes)
+    for (const auto& e : kHexEdges) edge(h[e[0]], h[e[1]]);
+  return shortest;
+}
+
 std::string formatQuality(const MeshQuality& q) {
   char buf[1024];
   std::string out;

@@ -264,6 +264,37 @@ TEST(Cli, ForcesOfASceneAgreeWithFiniteDifferences) {
 }
 
 // The flag form with --stiffness-times gives the assembled -K d of the model.
+// The number after `key` on its own line of `out` (NaN when the line is missing).
+double valueAfter(const std::string& out, const std::string& key) {
+  const size_t at = out.find("\n" + key + " ");
+  if (at == std::string::npos) return std::nan("");
+  return std::stod(out.substr(at + key.size() + 2));
+}
+
+// `info SCENE.yaml`: the placed mesh's report, then the critical step of the Adamss chapter,
+// Eq. 2.150. The block's edges are 1 cm scaled by 1.5; its fastest wave is the first
+// material's along the fibre, sqrt((lambda_L + 2 mu_L) / rho) with E_L = 9 kPa, nu_L = 0.3.
+TEST(Cli, InfoOfASceneGivesShortestEdgeWaveSpeedAndCriticalStep) {
+  const fs::path scene = writeForcesScene();
+  const Result r = runCli("info " + scene.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("scene forces_block"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("nodes 36, tets"), std::string::npos) << r.out;
+  const double edge = valueAfter(r.out, "shortest_edge");
+  const double c = valueAfter(r.out, "wave_speed");
+  const double hc = valueAfter(r.out, "critical_step");
+  const double lambdaL = 9000.0 * 0.3 / (1.3 * 0.4), muL = 9000.0 / 2.6;
+  const double expectedC = std::sqrt((lambdaL + 2.0 * muL) / 1000.0);
+  EXPECT_NEAR(edge, 0.015, 1e-8) << r.out;
+  EXPECT_NEAR(c, expectedC, 1e-5 * expectedC) << r.out;
+  EXPECT_NEAR(hc, 0.015 / expectedC, 1e-5 * hc) << r.out;
+  EXPECT_NE(r.out.find("P-wave sqrt((lambda + 2 mu) / rho), the fastest material: 0"),
+            std::string::npos)
+      << r.out;
+  const Result bad = runCli("info " + (scene.parent_path() / "none.yaml").string());
+  EXPECT_EQ(bad.exitCode, 2);
+}
+
 TEST(Cli, FlagFormStiffnessTimesIsMinusKd) {
   Mesh mesh = boxGrid(3, 3, 3, Eigen::Vector3d(0.02, 0.02, 0.02), TetSplit::kFiveMirrored);
   const fs::path dir = fs::temp_directory_path() / "tt_cli_scene";

@@ -40,6 +40,11 @@ double hexVolume(const Eigen::Matrix3Xd& x, const Hex& h);
 
 MeshQuality meshQuality(const Mesh& mesh, const QualityOptions& options = {});
 
+// The shortest edge of any tet or hex (hex edges in VTK/Gmsh node order), m; +inf without
+// elements. L of the critical step h_c = L / c ("Adamss: Advanced Anisotropic Mass-Spring
+// System", Sec. 2.5.6, Eq. 2.150).
+double shortestEdge(const Mesh& mesh);
+
 // A few readable lines (each ending in '\n') for `tissue_cli info`.
 std::string formatQuality(const MeshQuality& quality);
 
