@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "bench_support.h"
+#include "tissue_trainer/core/integrate/abm3.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/integrate/explicit_euler.h"
 #include "tissue_trainer/core/integrate/newtonian.h"
@@ -110,7 +111,7 @@ bool toleratesInversion(const System& s) {
 // ---- integrators by name, stepping h ---------------------------------------------------------
 
 const std::vector<std::string> kIntegrators = {"explicit_euler", "symplectic_euler", "newtonian",
-                                               "backward_euler", "radau_iia_fixed"};
+                                               "backward_euler", "radau_iia_fixed", "abm3_fixed"};
 
 std::unique_ptr<Integrator> makeStepper(const std::string& name, double h) {
   if (name == "explicit_euler" || name == "symplectic_euler") {
@@ -125,6 +126,12 @@ std::unique_ptr<Integrator> makeStepper(const std::string& name, double h) {
     return std::make_unique<NewtonianIntegrator>(p);
   }
   if (name == "backward_euler") return std::make_unique<BackwardEulerIntegrator>();
+  if (name == "abm3_fixed") {  // fixed steps of h, the third-order Runge-Kutta start
+    Abm3Params p;
+    p.adaptive = false;
+    p.timeStep = h;
+    return std::make_unique<Abm3Integrator>(p);
+  }
   RadauOptions o;  // radau_iia_fixed: fixed steps of h, Newton must converge
   o.adaptive = false;
   o.initialStep = h;
@@ -441,7 +448,7 @@ void sweepExtremes(bool quick, const std::string& path) {
       quick ? std::vector<std::pair<std::string, double>>{{"backward_euler", 1e-3}}
             : std::vector<std::pair<std::string, double>>{
                   {"symplectic_euler", 1e-4}, {"newtonian", 1e-4}, {"backward_euler", 1e-3},
-                  {"backward_euler", 1e-2}, {"radau_iia_fixed", 1e-3}};
+                  {"backward_euler", 1e-2}, {"radau_iia_fixed", 1e-3}, {"abm3_fixed", 1e-4}};
   for (const Case& c : extremeCases())
     for (const auto& [integrator, h] : steppers)
       for (const std::string& model : models) {

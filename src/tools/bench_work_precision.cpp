@@ -28,6 +28,7 @@
 
 #include "bench_support.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
+#include "tissue_trainer/core/integrate/abm3.h"
 #include "tissue_trainer/core/integrate/explicit_euler.h"
 #include "tissue_trainer/core/integrate/newtonian.h"
 #include "tissue_trainer/core/parallel.h"
@@ -108,10 +109,30 @@ std::vector<IntegratorSpec> radauSweep(const Problem& p, bool quick) {
   return specs;
 }
 
+// The Adams-Bashforth-Moulton predictor-corrector with its halving/doubling control, the
+// predictor-corrector difference held at the tolerances Radau IIA gets.
+std::vector<IntegratorSpec> abm3Sweep(const Problem& p, bool quick) {
+  const std::vector<double> tolerances =
+      quick ? std::vector<double>{1e-3} : std::vector<double>{1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7};
+  std::vector<IntegratorSpec> specs;
+  for (double tol : tolerances) {
+    const RadauOptions radau = radauOptions(p, tol);
+    Abm3Params params;
+    params.absTol = radau.absTol;
+    params.absTolVelocity = radau.absTolVelocity;
+    params.relTol = radau.relTol;
+    params.timeStep = std::min(radau.initialStep, 0.5 * p.stableStep);
+    specs.push_back({"abm3", "rtol", tol, p.sampleInterval,
+                     [params] { return std::make_unique<Abm3Integrator>(params); }});
+  }
+  return specs;
+}
+
 std::vector<IntegratorSpec> allIntegrators(const Problem& p, bool quick) {
   std::vector<IntegratorSpec> specs = explicitSweep(p, quick);
   for (auto& s : backwardEulerSweep(p, quick)) specs.push_back(s);
   for (auto& s : radauSweep(p, quick)) specs.push_back(s);
+  for (auto& s : abm3Sweep(p, quick)) specs.push_back(s);
   return specs;
 }
 

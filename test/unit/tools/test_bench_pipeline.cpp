@@ -81,7 +81,7 @@ TEST_F(BenchPipeline, WorkPrecisionCsvHasTheColumnsAndEveryProblem) {
   EXPECT_EQ(problems, expected);
   EXPECT_EQ(stableProblems, expected);  // every problem has a run with a finite error
   for (const char* name : {"explicit_euler", "symplectic_euler", "newtonian", "backward_euler",
-                           "backward_euler_newton", "radau_iia"})
+                           "backward_euler_newton", "radau_iia", "abm3"})
     EXPECT_TRUE(integrators.count(name)) << name;
 }
 
