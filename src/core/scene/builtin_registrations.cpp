@@ -11,6 +11,7 @@ void registerEdgeLengthModel(Registry&);
 void registerHyperelasticModel(Registry&);
 void registerStvkDisplacementModel(Registry&);
 void registerTensorMassModel(Registry&);
+void registerVirtualHexahedronModel(Registry&);  // src/core/model/adamss/
 // Material laws (src/core/material/*_registration.cpp).
 void registerStvkLaw(Registry&);
 void registerNeoHookeanLaw(Registry&);
@@ -28,6 +29,7 @@ void registerBuiltIns(Registry& registry) {
   registerHyperelasticModel(registry);
   registerStvkDisplacementModel(registry);
   registerTensorMassModel(registry);
+  registerVirtualHexahedronModel(registry);
   registerStvkLaw(registry);
   registerNeoHookeanLaw(registry);
   registerVolumeLaw(registry);

@@ -158,5 +158,44 @@ TEST(HunterScene, EachMalformedEntryNamesFileLineAndKey) {
   testutil::expectEachSceneFailsClearly(cases, "bad_hunter.yaml");
 }
 
+// The virtual hexahedron reads the same law and material keys; on this tet mesh it is the
+// hyperelastic model's element exactly.
+TEST(HunterScene, VirtualHexahedronReadsTheLawOfItsEntry) {
+  const std::string vh = replaced(withLaw("hunter"), "type: hyperelastic", "type: virtual_hexahedron");
+  const Scene a = loadScene(writeScene("vh.yaml", vh));
+  const Scene b = loadScene(writeScene("fem.yaml", withLaw("hunter")));
+  EXPECT_STREQ(a.system.models[0]->name(), "virtual_hexahedron");
+  Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(b.system.mesh.rest.data(),
+                                                         3 * b.system.mesh.numNodes());
+  for (int i = 0; i < x.size(); i += 3) x[i] *= 1.1;
+  EXPECT_NEAR(a.system.models[0]->energy(x), b.system.models[0]->energy(x),
+              1e-12 * b.system.models[0]->energy(x));
+  const Scene approx = loadScene(writeScene(
+      "vh_approx.yaml",
+      replaced(replaced(vh, "law: hunter", "law: hunter\n    deformation_gradient: axis_approximation"),
+               "backward_euler", "symplectic_euler")));
+  EXPECT_FALSE(approx.system.models[0]->hasStiffness());
+}
+
+TEST(HunterScene, MalformedVirtualHexahedronEntriesNameFileLineAndKey) {
+  const std::string vh = replaced(withLaw("hunter"), "type: hyperelastic", "type: virtual_hexahedron");
+  const auto with = [&](const std::string& line) {
+    return replaced(vh, "law: hunter", "law: hunter\n    " + line);
+  };
+  const std::vector<BadScene> cases = {
+      {"unknown source", with("deformation_gradient: axes"), 15,
+       "force_models[0].deformation_gradient: expected one of: shape_functions, axis_approximation"},
+      {"unknown law", replaced(vh, "law: hunter", "law: huntr"), 14,
+       "force_models[0].law: unknown law 'huntr'"},
+      {"approximation has no stiffness for an implicit integrator",
+       with("deformation_gradient: axis_approximation"), 16,
+       "integrator.type: backward_euler needs the stiffness of every force model; "
+       "virtual_hexahedron provides none"},
+      {"bad threshold", with("inversion_threshold: 1.5"), 15,
+       "force_models[0].inversion_threshold: expected a threshold in [0, 1)"},
+  };
+  testutil::expectEachSceneFailsClearly(cases, "bad_vh.yaml");
+}
+
 }  // namespace
 }  // namespace tt
