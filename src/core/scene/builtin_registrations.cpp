@@ -12,6 +12,8 @@ void registerHyperelasticModel(Registry&);
 void registerStvkDisplacementModel(Registry&);
 void registerTensorMassModel(Registry&);
 void registerVirtualHexahedronModel(Registry&);  // src/core/model/adamss/
+void registerAxialSpringModel(Registry&);        // src/core/model/adamss/
+void registerTorsionSpringModel(Registry&);      // src/core/model/adamss/
 // Material laws (src/core/material/*_registration.cpp).
 void registerStvkLaw(Registry&);
 void registerNeoHookeanLaw(Registry&);
@@ -30,6 +32,8 @@ void registerBuiltIns(Registry& registry) {
   registerStvkDisplacementModel(registry);
   registerTensorMassModel(registry);
   registerVirtualHexahedronModel(registry);
+  registerAxialSpringModel(registry);
+  registerTorsionSpringModel(registry);
   registerStvkLaw(registry);
   registerNeoHookeanLaw(registry);
   registerVolumeLaw(registry);

@@ -20,10 +20,7 @@ void registerVirtualHexahedronModel(Registry& registry) {
   for (KeyDoc& key : lawOptionKeys()) e.keys.push_back(std::move(key));
   e.presets = {
       {"virtual_hexahedron_hunter_polynomial", "{law: hunter_polynomial}",
-       "the pole-free Hunter myocardium law through the virtual hexahedron"},
-      {"virtual_hexahedron_axis_approximation",
-       "{law: hunter_polynomial, deformation_gradient: axis_approximation}",
-       "the same with F approximated from the axes (not an energy gradient)"}};
+       "the pole-free Hunter myocardium law through the virtual hexahedron"}};
   e.coversHexes = true;
   e.make = [](const YamlEntry& spec, const ModelContext& context) -> std::unique_ptr<ForceModel> {
     const LawEntry& law = tt::registry().law(spec["law"]);
