@@ -14,6 +14,7 @@ void registerTensorMassModel(Registry&);
 void registerVirtualHexahedronModel(Registry&);  // src/core/model/adamss/
 void registerAxialSpringModel(Registry&);        // src/core/model/adamss/
 void registerTorsionSpringModel(Registry&);      // src/core/model/adamss/
+void registerAxisFrictionModel(Registry&);       // src/core/model/adamss/
 // Material laws (src/core/material/*_registration.cpp).
 void registerStvkLaw(Registry&);
 void registerNeoHookeanLaw(Registry&);
@@ -34,6 +35,7 @@ void registerBuiltIns(Registry& registry) {
   registerVirtualHexahedronModel(registry);
   registerAxialSpringModel(registry);
   registerTorsionSpringModel(registry);
+  registerAxisFrictionModel(registry);
   registerStvkLaw(registry);
   registerNeoHookeanLaw(registry);
   registerVolumeLaw(registry);

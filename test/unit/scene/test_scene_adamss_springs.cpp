@@ -49,6 +49,17 @@ TEST(AdamssSpringScene, KeysReachTheModels) {
               1e-9 * V * 1e3);
 }
 
+// Friction has a velocity Jacobian and no position stiffness to add: backward Euler takes it.
+TEST(AdamssSpringScene, FrictionRunsWithBackwardEuler) {
+  const std::string text = replaced(
+      replaced(kSpringScene, "  - type: adamss_torsion_springs\n    form: gradient\n    stiffness: [[0.01], [0.01], [0.01]]\n",
+               "  - {type: adamss_axis_friction, coefficient: 0.5, form: virtual_hexahedron}\n"),
+      "{type: symplectic_euler, time_step: 1e-5}", "{type: backward_euler}");
+  const Scene scene = loadScene(testutil::writeScene("friction.yaml", text));
+  ASSERT_EQ(scene.system.models.size(), 2u);
+  EXPECT_TRUE(scene.system.models[1]->hasVelocityJacobian());
+}
+
 using testutil::BadScene;
 
 TEST(AdamssSpringScene, EachMalformedEntryNamesFileLineAndKey) {
@@ -76,8 +87,22 @@ TEST(AdamssSpringScene, EachMalformedEntryNamesFileLineAndKey) {
       {"torsion with an implicit integrator",
        replaced(s, "{type: symplectic_euler, time_step: 1e-5}", "{type: backward_euler}"), 13,
        "backward_euler needs the stiffness of every force model; adamss_torsion_springs provides none"},
+      {"friction without a coefficient",
+       replaced(s, "form: gradient", "type2: x"), 11, "force_models[1].type2: unknown key"},
   };
   testutil::expectEachSceneFailsClearly(cases, "bad_springs.yaml");
+  const std::string friction = replaced(
+      s, "  - type: adamss_torsion_springs\n    form: gradient\n    stiffness: [[0.01], [0.01], [0.01]]\n",
+      "  - {type: adamss_axis_friction, coefficient: 0.5}\n");
+  const std::vector<BadScene> frictionCases = {
+      {"negative coefficient", replaced(friction, "coefficient: 0.5", "coefficient: -1"), 10,
+       "force_models[1].coefficient: expected a positive number"},
+      {"unknown form", replaced(friction, "coefficient: 0.5", "coefficient: 0.5, form: viscous"), 10,
+       "force_models[1].form: expected one of: bourguignon, area, virtual_hexahedron"},
+      {"missing coefficient", replaced(friction, ", coefficient: 0.5", ""), 10,
+       "force_models[1]: missing required key 'coefficient'"},
+  };
+  testutil::expectEachSceneFailsClearly(frictionCases, "bad_friction.yaml");
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "../../model_test_util.h"
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/model/adamss/axial_springs.h"
+#include "tissue_trainer/core/model/adamss/axis_friction.h"
 #include "tissue_trainer/core/model/adamss/torsion_springs.h"
 
 namespace tt {
@@ -171,6 +172,59 @@ TEST(AdamssSprings, NoForceAtRestAndInvariantUnderRigidMotion) {
     const Eigen::VectorXd y = rigidMotion(x, R, Eigen::Vector3d(0.2, 0.1, -0.3));
     EXPECT_LT(relDiff(force(*model, y), rotateVectors(f, R)), 1e-10);
   }
+}
+
+Eigen::VectorXd frictionForce(const ForceModel& model, const Eigen::VectorXd& x,
+                              const Eigen::VectorXd& v) {
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(x.size());
+  model.addForce(x, v, f);
+  return f;
+}
+
+// Friction: its velocity Jacobian against finite differences in v, dissipation f . v <= 0, no
+// force for a rigid motion's velocities, and the three forms' coefficients in the ratios their
+// definitions give on a cube (A_l = h^2, V0 / |zeta_l^0| = h^2: area = virtual_hexahedron).
+TEST(AdamssSprings, FrictionVelocityJacobianDissipationAndRigidMotion) {
+  std::mt19937 rng(25);
+  const Mesh tets = boxMesh(2, 2, 1, 0.01, rng, 0.15);
+  const Mesh hexes = jitteredHexes(rng);
+  using Form = AxisFrictionForm;
+  for (const Mesh* mesh : {&tets, &hexes})
+    for (Form form : {Form::kBourguignon, Form::kArea, Form::kVirtualHexahedron}) {
+      const AxisFrictionModel model(*mesh, 3.0, form);
+      const Eigen::VectorXd x = perturbed(*mesh, 8e-4, rng);
+      const Eigen::VectorXd v = perturbed(*mesh, 0.05, rng) - restVector(*mesh);
+      const Eigen::VectorXd f = frictionForce(model, x, v);
+      EXPECT_LT(f.dot(v), 0.0);
+      // Linear in v: the Jacobian is exact, and C v = f.
+      const SparsePattern pattern = meshPattern(*mesh);
+      SparseMatrix C = pattern.zeroMatrix();
+      model.addVelocityJacobian(x, v, 1.0, pattern, C);
+      EXPECT_LT(relDiff(Eigen::VectorXd(C * v), f), 1e-12);
+      const Eigen::VectorXd dv = perturbed(*mesh, 0.05, rng) - restVector(*mesh);
+      EXPECT_LT(relDiff(Eigen::VectorXd(frictionForce(model, x, v + dv) - f),
+                        Eigen::VectorXd(C * dv)), 1e-12);
+      const Eigen::MatrixXd dense(C);
+      EXPECT_LT(relDiff(Eigen::MatrixXd(dense.transpose()), dense), 1e-12);
+      EXPECT_LT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(dense).eigenvalues().maxCoeff(),
+                1e-12 * dense.norm());
+      // A rigid motion's velocities, w x x + c, change no axis length.
+      const Eigen::Vector3d w(0.3, -1.2, 0.7), c(0.1, 0.2, -0.05);
+      Eigen::VectorXd rigid(x.size());
+      for (int n = 0; n < x.size() / 3; ++n) rigid.segment<3>(3 * n) = w.cross(x.segment<3>(3 * n)) + c;
+      EXPECT_LT(frictionForce(model, x, rigid).norm(), 1e-12 * f.norm());
+    }
+  const double h = 0.01;
+  const Mesh cube = boxGrid(2, 2, 2, Eigen::Vector3d(h, h, h), TetSplit::kNone);
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(3 * cube.numNodes());
+  for (int n = 0; n < cube.numNodes(); ++n)
+    if (cube.rest(0, n) > 0.5 * h) v[3 * n] = 0.1;
+  const Eigen::VectorXd x = restVector(cube);
+  const Eigen::VectorXd plain = frictionForce(AxisFrictionModel(cube, 3.0, Form::kBourguignon), x, v);
+  EXPECT_NEAR(plain[3 * 7], -3.0 * 0.1 / 4, 1e-12);
+  EXPECT_LT(relDiff(frictionForce(AxisFrictionModel(cube, 3.0, Form::kArea), x, v), Eigen::VectorXd(h * h * plain)), 1e-12);
+  EXPECT_LT(relDiff(frictionForce(AxisFrictionModel(cube, 3.0, Form::kVirtualHexahedron), x, v),
+                    Eigen::VectorXd(h * h * plain)), 1e-12);
 }
 
 }  // namespace

@@ -33,6 +33,15 @@ class AxisSpringElements {
            addForcesOf<8>(hexes_, hexRest_, x, f, pointForces);
   }
 
+  // The same for forces that depend on the axes' rates too: pointForces(zeta, zetaDot, rest)
+  // -> Matrix3d (no energy).
+  template <class PointForces>
+  void addRateForces(const Eigen::VectorXd& x, const Eigen::VectorXd& v, Eigen::VectorXd& f,
+                     const PointForces& pointForces) const {
+    addRateForcesOf<4>(tets_, tetRest_, x, v, f, pointForces);
+    addRateForcesOf<8>(hexes_, hexRest_, x, v, f, pointForces);
+  }
+
   // energyOf(zeta, rest) -> double.
   template <class EnergyOf>
   double energy(const Eigen::VectorXd& x, const EnergyOf& energyOf) const {
@@ -79,6 +88,19 @@ class AxisSpringElements {
       fe.noalias() = pointForces(axesOf<N>(x, elements[e], rest[e]), rest[e], energy) *
                      rest[e].D.transpose();
       return energy;
+    });
+  }
+
+  template <int N, class PointForces>
+  static void addRateForcesOf(const std::vector<std::array<int, N>>& elements,
+                              const std::vector<AxisSpringRest<N>>& rest, const Eigen::VectorXd& x,
+                              const Eigen::VectorXd& v, Eigen::VectorXd& f,
+                              const PointForces& pointForces) {
+    accumulateElementForces<N>(elements, f, [&](int e, NodeMatrix<N>& fe) {
+      fe.noalias() = pointForces(axesOf<N>(x, elements[e], rest[e]),
+                                 axesOf<N>(v, elements[e], rest[e]), rest[e]) *
+                     rest[e].D.transpose();
+      return 0.0;
     });
   }
 
