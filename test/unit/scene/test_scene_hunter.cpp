@@ -197,5 +197,50 @@ TEST(HunterScene, MalformedVirtualHexahedronEntriesNameFileLineAndKey) {
   testutil::expectEachSceneFailsClearly(cases, "bad_vh.yaml");
 }
 
+// The fibre frame from a direction and a sheet, or from spherical angles.
+TEST(HunterScene, FibreFrameFromSheetOrAngles) {
+  const std::string base = withLaw("hunter");
+  const Scene sheet = loadScene(writeScene(
+      "sheet.yaml", replaced(base, "fibres: {direction: [1, 1, 0]}",
+                             "fibres: {direction: [1, 1, 0], sheet: [0, 0, 3]}")));
+  Eigen::Matrix3d expected;
+  expected.col(0) = Eigen::Vector3d(1, 1, 0).normalized();
+  expected.col(1) = Eigen::Vector3d::UnitZ();
+  expected.col(2) = expected.col(0).cross(expected.col(1));
+  EXPECT_LT((sheet.system.mesh.fibreFrame[3] - expected).norm(), 1e-15);
+  // phi 90, theta 90: fibre +y, sheet -z (d fibre / d theta), normal y x -z = -x.
+  const Scene angles = loadScene(writeScene(
+      "angles.yaml", replaced(base, "fibres: {direction: [1, 1, 0]}", "fibres: {angles_deg: [90, 90]}")));
+  expected << 0, 0, -1, 1, 0, 0, 0, -1, 0;
+  EXPECT_LT((angles.system.mesh.fibreFrame[0] - expected).norm(), 1e-15);
+  const Scene tilted = loadScene(writeScene(
+      "tilted.yaml", replaced(base, "fibres: {direction: [1, 1, 0]}", "fibres: {angles_deg: [21.25, 49.6]}")));
+  const Eigen::Matrix3d B = tilted.system.mesh.fibreFrame[0];
+  EXPECT_TRUE((B.transpose() * B).isIdentity(1e-15));
+  EXPECT_NEAR(B.determinant(), 1.0, 1e-15);
+  EXPECT_NEAR(B(2, 0), std::cos(49.6 * M_PI / 180), 1e-15);
+}
+
+TEST(HunterScene, MalformedFibreEntriesNameFileLineAndKey) {
+  const std::string base = withLaw("hunter");
+  const auto with = [&](const std::string& fibres) {
+    return replaced(base, "fibres: {direction: [1, 1, 0]}", "fibres: " + fibres);
+  };
+  const std::vector<BadScene> cases = {
+      {"sheet along the fibre", with("{direction: [1, 1, 0], sheet: [1, 0, 0]}"), 3,
+       "fibres.sheet: expected a sheet direction orthogonal to the fibre direction, got cosine 0.7071"},
+      {"zero sheet", with("{direction: [1, 1, 0], sheet: [0, 0, 0]}"), 3,
+       "fibres.sheet: expected a non-zero sheet direction"},
+      {"angles and direction", with("{direction: [1, 1, 0], angles_deg: [10, 20]}"), 3,
+       "fibres.angles_deg: expected either angles_deg or direction (and sheet), not both"},
+      {"three angles", with("{angles_deg: [10, 20, 30]}"), 3,
+       "fibres.angles_deg: expected a list of 2 angles [phi, theta] in degrees"},
+      {"sheet alone", with("{sheet: [0, 0, 1]}"), 3, "fibres: missing required key 'direction'"},
+      {"unknown key", with("{direction: [1, 1, 0], normal: [0, 0, 1]}"), 3,
+       "fibres.normal: unknown key 'normal' (expected one of: direction, sheet, angles_deg)"},
+  };
+  testutil::expectEachSceneFailsClearly(cases, "bad_fibres.yaml");
+}
+
 }  // namespace
 }  // namespace tt
