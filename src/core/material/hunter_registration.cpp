@@ -11,7 +11,7 @@
 
 #include "tissue_trainer/core/material/hunter.h"
 #include "tissue_trainer/core/material/hunter_polynomial.h"
-#include "tissue_trainer/core/model/hyperelastic_factory.h"
+#include "tissue_trainer/core/model/law_model_factory.h"
 
 namespace tt {
 namespace {
@@ -69,7 +69,7 @@ void registerHunterLaw(Registry& registry) {
       "Hunter pole-zero law of myocardium (Adamss Eq. 2.153) in each element's fibre frame; "
       "infinite energy beyond a pole",
       {{"hunter", kHunterKeyDoc}},
-      hyperelasticFactory<HunterLaw>(
+      lawModelFactory<HunterLaw>(
           [](const YamlEntry* entry, const Material&) { return readHunter(entry); })});
 }
 
@@ -82,7 +82,7 @@ void registerHunterPolynomialLaw(Registry& registry) {
        {"hunter_polynomial",
         "{switch_fraction: s in (0, 1), default 0.9: each term switches at E = s a; degree: n "
         "in [2, 6], default 3: the Taylor polynomial's degree}"}},
-      hyperelasticFactory<HunterPolynomialLaw>([](const YamlEntry* entry, const Material&) {
+      lawModelFactory<HunterPolynomialLaw>([](const YamlEntry* entry, const Material&) {
         HunterPolynomialLaw::Constants c;
         c.hunter = readHunter(entry);
         if (entry && entry->has("hunter_polynomial")) {

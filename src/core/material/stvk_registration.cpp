@@ -1,6 +1,6 @@
 // Registers the law stvk (material/stvk.h).
 #include "tissue_trainer/core/material/stvk.h"
-#include "tissue_trainer/core/model/hyperelastic_factory.h"
+#include "tissue_trainer/core/model/law_model_factory.h"
 
 namespace tt {
 
@@ -10,7 +10,7 @@ void registerStvkLaw(Registry& registry) {
       "transversely isotropic St Venant-Kirchhoff: the common Lame constants, the longitudinal "
       "pair along each element's fibre axis",
       {},
-      hyperelasticFactory<StvkLaw>(
+      lawModelFactory<StvkLaw>(
           [](const YamlEntry*, const Material& common) { return StvkLaw::constants(common); })});
 }
 

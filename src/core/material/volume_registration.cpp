@@ -1,6 +1,6 @@
 // Registers the law volume (material/volume.h).
 #include "tissue_trainer/core/material/volume.h"
-#include "tissue_trainer/core/model/hyperelastic_factory.h"
+#include "tissue_trainer/core/model/law_model_factory.h"
 
 namespace tt {
 
@@ -10,7 +10,7 @@ void registerVolumeLaw(Registry& registry) {
       "volume term p (det F - r)^2: keeps (r = 1) or drives (r = V_inf / V0) the volume",
       {{"volume_stiffness", "p in Pa (scaled by stress_unit), required by the volume law"},
        {"volume_ratio", "r = V_inf / V0 > 0, default 1 (keep the rest volume)"}},
-      hyperelasticFactory<VolumeLaw>([](const YamlEntry* entry, const Material&) {
+      lawModelFactory<VolumeLaw>([](const YamlEntry* entry, const Material&) {
         if (!entry)
           throw std::invalid_argument(
               "volume law: volume_stiffness is read from a scene's materials entry");

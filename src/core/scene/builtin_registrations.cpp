@@ -11,6 +11,10 @@ void registerEdgeLengthModel(Registry&);
 void registerHyperelasticModel(Registry&);
 void registerStvkDisplacementModel(Registry&);
 void registerTensorMassModel(Registry&);
+void registerVirtualHexahedronModel(Registry&);  // src/core/model/adamss/
+void registerAxialSpringModel(Registry&);        // src/core/model/adamss/
+void registerTorsionSpringModel(Registry&);      // src/core/model/adamss/
+void registerAxisFrictionModel(Registry&);       // src/core/model/adamss/
 // Material laws (src/core/material/*_registration.cpp).
 void registerStvkLaw(Registry&);
 void registerNeoHookeanLaw(Registry&);
@@ -29,6 +33,10 @@ void registerBuiltIns(Registry& registry) {
   registerHyperelasticModel(registry);
   registerStvkDisplacementModel(registry);
   registerTensorMassModel(registry);
+  registerVirtualHexahedronModel(registry);
+  registerAxialSpringModel(registry);
+  registerTorsionSpringModel(registry);
+  registerAxisFrictionModel(registry);
   registerStvkLaw(registry);
   registerNeoHookeanLaw(registry);
   registerVolumeLaw(registry);

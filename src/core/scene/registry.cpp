@@ -73,7 +73,7 @@ void Registry::add(ForceModelEntry entry) {
 }
 
 void Registry::add(LawEntry entry) {
-  requireName("law", entry.name, static_cast<bool>(entry.makeHyperelastic));
+  requireName("law", entry.name, static_cast<bool>(entry.makeModel));
   if (findLaw(entry.name)) throw std::logic_error("registry: law '" + entry.name + "' registered twice");
   requireDistinctKeys("law", entry.name, entry.materialKeys);
   if (entry.standalone) {

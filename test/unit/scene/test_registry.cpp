@@ -65,7 +65,7 @@ LawEntry dummyLaw(const std::string& name, bool standalone = false) {
   LawEntry e;
   e.name = name;
   e.standalone = standalone;
-  e.makeHyperelastic = [](const ModelContext&, const LawOptions&) -> std::unique_ptr<ForceModel> {
+  e.makeModel = [](const ModelContext&, const LawModelRequest&) -> std::unique_ptr<ForceModel> {
     return nullptr;
   };
   return e;

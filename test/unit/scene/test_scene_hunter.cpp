@@ -158,5 +158,89 @@ TEST(HunterScene, EachMalformedEntryNamesFileLineAndKey) {
   testutil::expectEachSceneFailsClearly(cases, "bad_hunter.yaml");
 }
 
+// The virtual hexahedron reads the same law and material keys; on this tet mesh it is the
+// hyperelastic model's element exactly.
+TEST(HunterScene, VirtualHexahedronReadsTheLawOfItsEntry) {
+  const std::string vh = replaced(withLaw("hunter"), "type: hyperelastic", "type: virtual_hexahedron");
+  const Scene a = loadScene(writeScene("vh.yaml", vh));
+  const Scene b = loadScene(writeScene("fem.yaml", withLaw("hunter")));
+  EXPECT_STREQ(a.system.models[0]->name(), "virtual_hexahedron");
+  Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(b.system.mesh.rest.data(),
+                                                         3 * b.system.mesh.numNodes());
+  for (int i = 0; i < x.size(); i += 3) x[i] *= 1.1;
+  EXPECT_NEAR(a.system.models[0]->energy(x), b.system.models[0]->energy(x),
+              1e-12 * b.system.models[0]->energy(x));
+  const Scene approx = loadScene(writeScene(
+      "vh_approx.yaml",
+      replaced(replaced(vh, "law: hunter", "law: hunter\n    deformation_gradient: axis_approximation"),
+               "backward_euler", "symplectic_euler")));
+  EXPECT_FALSE(approx.system.models[0]->hasStiffness());
+}
+
+TEST(HunterScene, MalformedVirtualHexahedronEntriesNameFileLineAndKey) {
+  const std::string vh = replaced(withLaw("hunter"), "type: hyperelastic", "type: virtual_hexahedron");
+  const auto with = [&](const std::string& line) {
+    return replaced(vh, "law: hunter", "law: hunter\n    " + line);
+  };
+  const std::vector<BadScene> cases = {
+      {"unknown source", with("deformation_gradient: axes"), 15,
+       "force_models[0].deformation_gradient: expected one of: shape_functions, axis_approximation"},
+      {"unknown law", replaced(vh, "law: hunter", "law: huntr"), 14,
+       "force_models[0].law: unknown law 'huntr'"},
+      {"approximation has no stiffness for an implicit integrator",
+       with("deformation_gradient: axis_approximation"), 16,
+       "integrator.type: backward_euler needs the stiffness of every force model; "
+       "virtual_hexahedron provides none"},
+      {"bad threshold", with("inversion_threshold: 1.5"), 15,
+       "force_models[0].inversion_threshold: expected a threshold in [0, 1)"},
+  };
+  testutil::expectEachSceneFailsClearly(cases, "bad_vh.yaml");
+}
+
+// The fibre frame from a direction and a sheet, or from spherical angles.
+TEST(HunterScene, FibreFrameFromSheetOrAngles) {
+  const std::string base = withLaw("hunter");
+  const Scene sheet = loadScene(writeScene(
+      "sheet.yaml", replaced(base, "fibres: {direction: [1, 1, 0]}",
+                             "fibres: {direction: [1, 1, 0], sheet: [0, 0, 3]}")));
+  Eigen::Matrix3d expected;
+  expected.col(0) = Eigen::Vector3d(1, 1, 0).normalized();
+  expected.col(1) = Eigen::Vector3d::UnitZ();
+  expected.col(2) = expected.col(0).cross(expected.col(1));
+  EXPECT_LT((sheet.system.mesh.fibreFrame[3] - expected).norm(), 1e-15);
+  // phi 90, theta 90: fibre +y, sheet -z (d fibre / d theta), normal y x -z = -x.
+  const Scene angles = loadScene(writeScene(
+      "angles.yaml", replaced(base, "fibres: {direction: [1, 1, 0]}", "fibres: {angles_deg: [90, 90]}")));
+  expected << 0, 0, -1, 1, 0, 0, 0, -1, 0;
+  EXPECT_LT((angles.system.mesh.fibreFrame[0] - expected).norm(), 1e-15);
+  const Scene tilted = loadScene(writeScene(
+      "tilted.yaml", replaced(base, "fibres: {direction: [1, 1, 0]}", "fibres: {angles_deg: [21.25, 49.6]}")));
+  const Eigen::Matrix3d B = tilted.system.mesh.fibreFrame[0];
+  EXPECT_TRUE((B.transpose() * B).isIdentity(1e-15));
+  EXPECT_NEAR(B.determinant(), 1.0, 1e-15);
+  EXPECT_NEAR(B(2, 0), std::cos(49.6 * M_PI / 180), 1e-15);
+}
+
+TEST(HunterScene, MalformedFibreEntriesNameFileLineAndKey) {
+  const std::string base = withLaw("hunter");
+  const auto with = [&](const std::string& fibres) {
+    return replaced(base, "fibres: {direction: [1, 1, 0]}", "fibres: " + fibres);
+  };
+  const std::vector<BadScene> cases = {
+      {"sheet along the fibre", with("{direction: [1, 1, 0], sheet: [1, 0, 0]}"), 3,
+       "fibres.sheet: expected a sheet direction orthogonal to the fibre direction, got cosine 0.7071"},
+      {"zero sheet", with("{direction: [1, 1, 0], sheet: [0, 0, 0]}"), 3,
+       "fibres.sheet: expected a non-zero sheet direction"},
+      {"angles and direction", with("{direction: [1, 1, 0], angles_deg: [10, 20]}"), 3,
+       "fibres.angles_deg: expected either angles_deg or direction (and sheet), not both"},
+      {"three angles", with("{angles_deg: [10, 20, 30]}"), 3,
+       "fibres.angles_deg: expected a list of 2 angles [phi, theta] in degrees"},
+      {"sheet alone", with("{sheet: [0, 0, 1]}"), 3, "fibres: missing required key 'direction'"},
+      {"unknown key", with("{direction: [1, 1, 0], normal: [0, 0, 1]}"), 3,
+       "fibres.normal: unknown key 'normal' (expected one of: direction, sheet, angles_deg)"},
+  };
+  testutil::expectEachSceneFailsClearly(cases, "bad_fibres.yaml");
+}
+
 }  // namespace
 }  // namespace tt

@@ -30,6 +30,7 @@
 #include "tissue_trainer/core/integrate/integrator.h"
 #include "tissue_trainer/core/material/law.h"
 #include "tissue_trainer/core/mesh/mesh.h"
+#include "tissue_trainer/core/model/adamss/virtual_hexahedron_options.h"
 #include "tissue_trainer/core/model/force_model.h"
 #include "tissue_trainer/core/model/material.h"
 #include "tissue_trainer/core/scene/yaml_reader.h"
@@ -74,21 +75,31 @@ struct ForceModelEntry {
   ForceModelFactory make;
 };
 
+// The element models a law's factory builds, `hyperelastic` (model/hyperelastic.h) and
+// `virtual_hexahedron` (model/adamss/virtual_hexahedron.h), with their options.
+enum class LawModelKind { kHyperelastic, kVirtualHexahedron };
+struct LawModelRequest {
+  LawModelKind kind = LawModelKind::kHyperelastic;
+  LawOptions options;
+  adamss::DeformationGradientSource deformationGradient =
+      adamss::DeformationGradientSource::kShapeFunctions;  // virtual_hexahedron only
+};
+using LawModelFactory =
+    std::function<std::unique_ptr<ForceModel>(const ModelContext& context,
+                                              const LawModelRequest& request)>;
+
 // A material law (psi(F), P(F), dP; material/law.h). Its entry names the keys a `materials`
 // entry may carry for it beyond the common ones (density, young_modulus, poisson_ratio, the
-// longitudinal pair, lambda/mu, region, name, stress_unit), and builds the element model
-// `hyperelastic` over the law: model/hyperelastic_factory.h instantiates the model's template
-// for the law in the law's registration file, and reads the law's constants per material
-// from ModelContext (its materialEntries in a scene, the common constants elsewhere). A key of
-// a law is accepted in every material entry.
-using LawModelFactory =
-    std::function<std::unique_ptr<ForceModel>(const ModelContext& context, const LawOptions&)>;
-
+// longitudinal pair, lambda/mu, region, name, stress_unit), and builds the element models over
+// the law: model/law_model_factory.h instantiates the models' templates for the law in the
+// law's registration file, and reads the law's constants per material from ModelContext (its
+// materialEntries in a scene, the common constants elsewhere). A key of a law is accepted in
+// every material entry.
 struct LawEntry {
   std::string name;
   std::string description;
   std::vector<KeyDoc> materialKeys;    // the law's own keys in a `materials` entry
-  LawModelFactory makeHyperelastic;
+  LawModelFactory makeModel;           // every element model over the law
   // True: the law alone is a tissue model, and the registry gives the model kLawModel the
   // preset kLawModel_NAME = {law: NAME}. False for a term meant to add to another (volume).
   bool standalone = true;

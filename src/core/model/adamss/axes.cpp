@@ -1,5 +1,6 @@
 #include "tissue_trainer/core/model/adamss/axes.h"
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
@@ -139,6 +140,38 @@ bool hexAxisRest(const NodeMatrix<Hex8::kNodes>& Xe, const Eigen::Matrix3d& axes
   }
   out.length0 = restLengths<Hex8::kNodes>(Xe, out.C);
   return true;
+}
+
+namespace {
+
+Eigen::Vector3d faceVectorArea(const NodeMatrix<Tet4::kNodes>& xe, int face) {
+  const int* f = Tet4::faces[face];
+  return 0.5 * (xe.col(f[1]) - xe.col(f[0])).cross(xe.col(f[2]) - xe.col(f[0]));
+}
+
+Eigen::Vector3d faceVectorArea(const NodeMatrix<Hex8::kNodes>& xe, int face) {
+  const int* f = Hex8::faces[face];
+  return 0.5 * (xe.col(f[2]) - xe.col(f[0])).cross(xe.col(f[3]) - xe.col(f[1]));
+}
+
+template <class Element>
+Eigen::Vector3d meanProjectedAreas(const NodeMatrix<Element::kNodes>& xe,
+                                   const AxisRest<Element>& rest) {
+  Eigen::Vector3d area;
+  for (int l = 0; l < kAxes; ++l)
+    area[l] = 0.5 * (std::abs(faceVectorArea(xe, rest.face[2 * l]).dot(rest.axes0.col(l))) +
+                     std::abs(faceVectorArea(xe, rest.face[2 * l + 1]).dot(rest.axes0.col(l))));
+  return area;
+}
+
+}  // namespace
+
+Eigen::Vector3d projectedFaceAreas(const NodeMatrix<Tet4::kNodes>& xe, const AxisRest<Tet4>& rest) {
+  return meanProjectedAreas<Tet4>(xe, rest);
+}
+
+Eigen::Vector3d projectedFaceAreas(const NodeMatrix<Hex8::kNodes>& xe, const AxisRest<Hex8>& rest) {
+  return meanProjectedAreas<Hex8>(xe, rest);
 }
 
 AxisMesh buildAxes(const Mesh& mesh) {

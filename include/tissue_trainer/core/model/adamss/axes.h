@@ -94,6 +94,13 @@ inline Eigen::Matrix3d axisVectors(const PointMatrix& xq) {
   return zeta;
 }
 
+// Per axis l, the mean over its two points q_2l, q_2l+1 of |a_j . u_l|: the vector area a_j of
+// the face holding the point (hex faces: half the cross product of the diagonals, the mean of
+// the face's two triangulations) projected on the unit axis u_l, at the positions xe. The area
+// the area-scaled springs multiply a stiffness in Pa by (Eqs. 2.38 and 2.55).
+Eigen::Vector3d projectedFaceAreas(const NodeMatrix<Tet4::kNodes>& xe, const AxisRest<Tet4>& rest);
+Eigen::Vector3d projectedFaceAreas(const NodeMatrix<Hex8::kNodes>& xe, const AxisRest<Hex8>& rest);
+
 // The axes of every element of a mesh, in mesh order, with the axis directions taken from the
 // elements' fibre frames (Mesh::fibreFrame, Mesh::hexFibreFrame).
 struct AxisMesh {
@@ -105,6 +112,31 @@ struct AxisMesh {
 
 // Throws std::invalid_argument naming the element ("tet 12", "hex 3") whose rays meet no face.
 AxisMesh buildAxes(const Mesh& mesh);
+
+// What the spring models (axial_springs.h, torsion_springs.h) keep of an element's axes: the
+// current axes are zeta = x_e D (D_pl = C_p,2l - C_p,2l+1), and a force g_l at q_2l with -g_l at
+// q_2l+1 reaches node p as D_pl g_l (Eq. 2.29).
+template <int N>
+struct AxisSpringRest {
+  Eigen::Matrix<double, N, kAxes> D = Eigen::Matrix<double, N, kAxes>::Zero();
+  Eigen::Vector3d length0 = Eigen::Vector3d::Zero();  // |zeta_l^0|
+  Eigen::Vector3d area = Eigen::Vector3d::Zero();     // projectedFaceAreas at rest
+  Eigen::Vector3d restCosine = Eigen::Vector3d::Zero();  // of the pairs (0, 1), (0, 2), (1, 2)
+  double volume = 0.0;                                // V0
+};
+
+template <class Element>
+AxisSpringRest<Element::kNodes> axisSpringRest(const NodeMatrix<Element::kNodes>& Xe,
+                                               const AxisRest<Element>& axes, double volume) {
+  AxisSpringRest<Element::kNodes> r;
+  for (int l = 0; l < kAxes; ++l) r.D.col(l) = axes.C.col(2 * l) - axes.C.col(2 * l + 1);
+  r.length0 = axes.length0;
+  r.area = projectedFaceAreas(Xe, axes);
+  r.restCosine << axes.axes0.col(0).dot(axes.axes0.col(1)), axes.axes0.col(0).dot(axes.axes0.col(2)),
+      axes.axes0.col(1).dot(axes.axes0.col(2));
+  r.volume = volume;
+  return r;
+}
 
 }  // namespace adamss
 }  // namespace tt

@@ -1,0 +1,270 @@
+#pragma once
+// The method of the virtual hexahedron ("Adamss: Advanced Anisotropic Mass-Spring System",
+// Sec. 2.4.2): the forces of any material law (material/law.h) applied at the intersection
+// points of each element's anisotropy axes (model/adamss/axes.h) and carried to the nodes by
+// the coefficient matrix C (Eq. 2.29).
+//
+// Form and sign. Eq. 2.56, with the global deformation gradient F and P = F B S B^T (B the
+// element's frame, S the law's stress in it), puts R_v A_l P n_l at the point q_2l and the
+// opposite at q_2l+1, where n_l is the unit outward normal of the virtual hexahedron's face
+// through q_2l, A_l that face's area (Eq. 2.57) and R_v = V0 / V_h (Eq. 2.58). Distributed by
+// Eq. 2.29 this is P h_p at node p, with the constant lever h_p = R_v sum_l A_l n_l D_pl and
+// D_pl = C_p,2l - C_p,2l+1. That is the gradient of the element's energy, not the restoring
+// force, so the model returns -P h_p: the sign of the springs (Eq. 2.35) and of v' = M^-1 F
+// (Eq. 2.126).
+//
+// Tets: the shape functions are affine, so D_pl = g_p . zeta_l^0 (g_p = grad N_p), and the face
+// normals of a parallelepiped scaled by their areas are V_h times the reciprocal basis of its
+// edges zeta_l^0, so h_p = V0 g_p: the virtual hexahedron is the one-point finite element of
+// the same law, exactly, for any non-degenerate axes. Hexes: F is taken at the centre (Eqs.
+// 2.63-2.67 at xi = 0); h_p = V0 g_p(0) when the axes run along the edges of a rectangular
+// hex, and only there is the force the gradient of the energy V0 W(F(0)) this model reports
+// (nonConservativeHexes() counts the others; their stiffness is the exact derivative of the
+// force and is not symmetric). Hex modes that leave F(0) unchanged (hourglass modes, Sec.
+// 2.9.1) have no force.
+//
+// Axis approximation (Eqs. 2.59-2.62): F in the axes' frame from the stretches of the three
+// axes and the angles between them, and the point forces of Eq. 2.74 corrected,
+// f_2l = -R_v A_l sum_k S_kl zeta_k / |zeta_k^0| with the current axes zeta_k, f_2l+1 = -f_2l.
+// It is exact for stretches along the axes and for symmetric shears with equal axis stretches,
+// and approximate otherwise, also when one axis stays orthogonal to the others (a 30 % simple
+// shear is off by about 1e-2 in C = F^T F). It needs orthonormal rest axes, has no stiffness
+// (explicit integrators only), and its energy V0 W(F) is not the potential of its force.
+#include <Eigen/Core>
+#include <Eigen/LU>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "tissue_trainer/core/element/hex8.h"
+#include "tissue_trainer/core/element/tet4.h"
+#include "tissue_trainer/core/material/law_point.h"
+#include "tissue_trainer/core/mesh/mesh.h"
+#include "tissue_trainer/core/model/adamss/axes.h"
+#include "tissue_trainer/core/model/adamss/virtual_hexahedron_options.h"
+#include "tissue_trainer/core/model/force_model.h"
+#include "tissue_trainer/core/model/tet_loops.h"
+
+namespace tt {
+namespace adamss {
+
+// What one element's virtual hexahedron needs, computed once.
+template <int N>
+struct VirtualHexahedronRest {
+  NodeMatrix<N> gradient = NodeMatrix<N>::Zero();  // grad_X N_p at the centre (column p)
+  NodeMatrix<N> lever = NodeMatrix<N>::Zero();     // h_p: the force at node p is -P h_p
+  Eigen::Matrix<double, N, kAxes> axisWeights =    // D: the current axes are x_e D (Eq. 2.5)
+      Eigen::Matrix<double, N, kAxes>::Zero();
+  Eigen::Vector3d pointArea = Eigen::Vector3d::Zero();  // R_v A_l
+  Eigen::Vector3d length0 = Eigen::Vector3d::Zero();    // |zeta_l^0|
+  Eigen::Matrix3d axes0 = Eigen::Matrix3d::Identity();  // unit rest axes (columns)
+  double volume = 0.0;                                  // V0
+};
+
+// The rest data of tet `nodes` or hex `nodes` of `mesh` with its axes. Returns false when the
+// element is flat or inverted at rest or its axes span no volume.
+bool tetVirtualHexahedron(const Mesh& mesh, const Tet& nodes, const AxisRest<Tet4>& axes,
+                          VirtualHexahedronRest<Tet4::kNodes>& out);
+bool hexVirtualHexahedron(const Mesh& mesh, const Hex& nodes, const AxisRest<Hex8>& axes,
+                          VirtualHexahedronRest<Hex8::kNodes>& out);
+
+// True when the lever is the gradient's, h_p = V0 g_p (relative 1e-9): the force is then the
+// gradient of the element's energy.
+template <int N>
+bool isConservative(const VirtualHexahedronRest<N>& r) {
+  return (r.lever - r.volume * r.gradient).norm() <= 1e-9 * r.volume * r.gradient.norm();
+}
+
+// F in the axes' frame from the current axes (columns) and their rest lengths (Eqs. 2.59-2.62):
+// F = diag(lambda) (I + Gamma), beta_ij = (pi/2 - alpha_ij) / 2 with alpha_ij the angle between
+// axes i and j, lambda_i = |zeta_i| / |zeta_i^0| prod_(j != i) cos beta_ij, gamma_ij =
+// tan beta_ij. For axes orthogonal at rest.
+Eigen::Matrix3d axisDeformationGradient(const Eigen::Matrix3d& zeta,
+                                        const Eigen::Vector3d& length0);
+
+template <class Element, class Law>
+struct VirtualHexahedra {
+  std::vector<typename Element::Nodes> nodes;
+  std::vector<VirtualHexahedronRest<Element::kNodes>> rest;
+  std::vector<typename Law::Parameters> law;
+};
+
+template <class Law>
+class VirtualHexahedronModel final : public ForceModel {
+ public:
+  using Constants = typename Law::Constants;
+
+  // `constants` per material id. Throws std::invalid_argument naming the element ("tet 3")
+  // whose axes or rest shape the method cannot use.
+  VirtualHexahedronModel(const Mesh& mesh, const std::vector<Constants>& constants,
+                         const LawOptions& options, DeformationGradientSource source)
+      : options_(options), source_(source) {
+    const AxisMesh axes = buildAxes(mesh);
+    build(mesh, mesh.tets, axes.tetRest, mesh.material, constants, "tet", tets_,
+          tetVirtualHexahedron);
+    build(mesh, mesh.hexes, axes.hexRest, mesh.hexMaterial, constants, "hex", hexes_,
+          hexVirtualHexahedron);
+    for (const auto& r : hexes_.rest) nonConservativeHexes_ += isConservative(r) ? 0 : 1;
+  }
+
+  const char* name() const override { return "virtual_hexahedron"; }
+  DeformationGradientSource source() const { return source_; }
+  // Hexes whose force is not the gradient of their energy (axes not along the edges of a
+  // rectangular hex).
+  int nonConservativeHexes() const { return nonConservativeHexes_; }
+  bool toleratesInversion() const override { return options_.inversionThreshold > 0.0; }
+
+  double addForce(const Eigen::VectorXd& x, const Eigen::VectorXd&,
+                  Eigen::VectorXd& f) const override {
+    return forces(tets_, x, f) + forces(hexes_, x, f);
+  }
+
+  double energy(const Eigen::VectorXd& x) const override {
+    return energyOf(tets_, x) + energyOf(hexes_, x);
+  }
+
+  bool hasStiffness() const override { return shapeFunctions(); }
+  void addStiffness(const Eigen::VectorXd& x, double scale, const SparsePattern& pattern,
+                    SparseMatrix& K) const override {
+    forEachTetByRows(pattern, static_cast<int>(tets_.nodes.size()), [&](int e, TetRows rows) {
+      pattern.addTetBlock(K, e, scale * elementStiffness(tets_, x, e), rows);
+    });
+    for (int e = 0; e < static_cast<int>(hexes_.nodes.size()); ++e) {
+      const auto Ke = elementStiffness(hexes_, x, e);
+      for (int a = 0; a < Hex8::kNodes; ++a)
+        for (int b = 0; b < Hex8::kNodes; ++b)
+          pattern.addNodeBlock(K, hexes_.nodes[e][a], hexes_.nodes[e][b],
+                               scale * Ke.template block<3, 3>(3 * a, 3 * b));
+    }
+  }
+
+  bool hasStiffnessProduct() const override { return shapeFunctions(); }
+  void addStiffnessTimes(const Eigen::VectorXd& x, const Eigen::VectorXd& d, double scale,
+                         Eigen::VectorXd& out) const override {
+    product(tets_, x, d, scale, out);
+    product(hexes_, x, d, scale, out);
+  }
+
+ private:
+  bool shapeFunctions() const { return source_ == DeformationGradientSource::kShapeFunctions; }
+
+  template <class Element, class RestOf>
+  void build(const Mesh& mesh, const std::vector<typename Element::Nodes>& elements,
+             const std::vector<AxisRest<Element>>& axes, const std::vector<int>& materials,
+             const std::vector<Constants>& constants, const char* kind,
+             VirtualHexahedra<Element, Law>& set, RestOf restOf) {
+    set.nodes = elements;
+    set.rest.resize(elements.size());
+    set.law.reserve(elements.size());
+    for (std::size_t e = 0; e < elements.size(); ++e) {
+      const std::string element = std::string(kind) + " " + std::to_string(e);
+      if (!restOf(mesh, elements[e], axes[e], set.rest[e]))
+        throw std::invalid_argument("virtual_hexahedron: " + element +
+                                    " is flat or inverted at rest, or its axes span no volume");
+      const Eigen::Matrix3d& B = set.rest[e].axes0;
+      if (!shapeFunctions() && !(B.transpose() * B).isIdentity(1e-9))
+        throw std::invalid_argument("virtual_hexahedron: " + element +
+                                    ": the axis approximation needs orthogonal axes");
+      // The axis approximation works in the axes' frame, where the law's frame is I.
+      set.law.push_back(Law::parameters(constants.at(materials.at(e)),
+                                        shapeFunctions() ? B : Eigen::Matrix3d::Identity()));
+    }
+  }
+
+  template <int N>
+  static NodeMatrix<N> relativeNodes(const Eigen::VectorXd& x, const std::array<int, N>& nodes) {
+    NodeMatrix<N> xe = gatherNodes<N>(x, nodes);
+    return xe.colwise() - xe.col(0);  // F and the axes are unchanged; no digits lost
+  }
+
+  // The point where the law is evaluated: F(centre), or the axis approximation's F.
+  template <int N>
+  LawPoint pointOf(const NodeMatrix<N>& xe, const VirtualHexahedronRest<N>& r) const {
+    if (shapeFunctions()) return lawPoint(xe * r.gradient.transpose(), options_);
+    return lawPoint(axisDeformationGradient(xe * r.axisWeights, r.length0), options_);
+  }
+
+  template <class Element>
+  double forces(const VirtualHexahedra<Element, Law>& set, const Eigen::VectorXd& x,
+                Eigen::VectorXd& f) const {
+    constexpr int N = Element::kNodes;
+    return accumulateElementForces<N>(set.nodes, f, [&](int e, NodeMatrix<N>& fe) {
+      const NodeMatrix<N> xe = relativeNodes<N>(x, set.nodes[e]);
+      const VirtualHexahedronRest<N>& r = set.rest[e];
+      const LawPoint point = pointOf<N>(xe, r);
+      const Eigen::Matrix3d P = Law::stress(set.law[e], point.F);
+      if (shapeFunctions()) {
+        fe.noalias() = -P * r.lever;
+      } else {
+        // Eq. 2.74 corrected: column l of zeta diag(1/|zeta^0|) S is sum_k S_kl zeta_k/|zeta_k^0|.
+        const Eigen::Matrix3d S = point.F.inverse() * P;
+        const Eigen::Matrix3d pointForce =
+            (xe * r.axisWeights) * r.length0.cwiseInverse().asDiagonal() * S *
+            r.pointArea.asDiagonal();
+        fe.noalias() = -pointForce * r.axisWeights.transpose();
+      }
+      return r.volume * Law::energy(set.law[e], point.F);
+    });
+  }
+
+  template <class Element>
+  double energyOf(const VirtualHexahedra<Element, Law>& set, const Eigen::VectorXd& x) const {
+    constexpr int N = Element::kNodes;
+    return sumOverTets(static_cast<int>(set.nodes.size()), [&](int e) {
+      const VirtualHexahedronRest<N>& r = set.rest[e];
+      return r.volume *
+             Law::energy(set.law[e], pointOf<N>(relativeNodes<N>(x, set.nodes[e]), r).F);
+    });
+  }
+
+  // vec(dF) = M vec(dx) for M built from the columns m_p (M(i + 3 j, 3 p + i) = m_p[j]).
+  template <int N>
+  static Eigen::Matrix<double, 9, 3 * N> vectorised(const NodeMatrix<N>& m) {
+    Eigen::Matrix<double, 9, 3 * N> M = Eigen::Matrix<double, 9, 3 * N>::Zero();
+    for (int p = 0; p < N; ++p)
+      for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) M(i + 3 * j, 3 * p + i) = m(j, p);
+    return M;
+  }
+
+  // df/dx of element e (3N x 3N, node-major): df_p = -dP[dF] h_p with dF = dx_e G^T.
+  template <class Element>
+  Eigen::Matrix<double, 3 * Element::kNodes, 3 * Element::kNodes> elementStiffness(
+      const VirtualHexahedra<Element, Law>& set, const Eigen::VectorXd& x, int e) const {
+    constexpr int N = Element::kNodes;
+    const VirtualHexahedronRest<N>& r = set.rest[e];
+    LawPoint point = pointOf<N>(relativeNodes<N>(x, set.nodes[e]), r);
+    const Matrix9d A = pointTangent<Law>(set.law[e], point, options_);
+    return -(vectorised<N>(r.lever).transpose() * A * vectorised<N>(r.gradient));
+  }
+
+  template <class Element>
+  void product(const VirtualHexahedra<Element, Law>& set, const Eigen::VectorXd& x,
+               const Eigen::VectorXd& d, double scale, Eigen::VectorXd& out) const {
+    constexpr int N = Element::kNodes;
+    accumulateElementForces<N>(set.nodes, out, [&](int e, NodeMatrix<N>& fe) {
+      const VirtualHexahedronRest<N>& r = set.rest[e];
+      LawPoint point = pointOf<N>(relativeNodes<N>(x, set.nodes[e]), r);
+      const Eigen::Matrix3d dF = gatherNodes<N>(d, set.nodes[e]) * r.gradient.transpose();
+      Eigen::Matrix3d dP;
+      if (options_.psdProjection) {
+        const Matrix9d A = pointTangent<Law>(set.law[e], point, options_);
+        Eigen::Map<Eigen::Matrix<double, 9, 1>>(dP.data()) =
+            A * Eigen::Map<const Eigen::Matrix<double, 9, 1>>(dF.data());
+      } else {
+        dP = Law::stressDifferential(set.law[e], point.F, dF);
+      }
+      fe.noalias() = -scale * dP * r.lever;
+      return 0.0;
+    });
+  }
+
+  LawOptions options_;
+  DeformationGradientSource source_;
+  VirtualHexahedra<Tet4, Law> tets_;
+  VirtualHexahedra<Hex8, Law> hexes_;
+  int nonConservativeHexes_ = 0;
+};
+
+}  // namespace adamss
+}  // namespace tt
