@@ -74,8 +74,13 @@ void GuardStats::add(const StepReport& frame) {
 StabilityGuard::StabilityGuard(std::unique_ptr<Integrator> inner, StabilityGuardParams params)
     : inner_(std::move(inner)), params_(params) {}
 
+double StabilityGuard::now() const {
+  if (params_.wallClock) return params_.wallClock();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
 StepReport StabilityGuard::advance(System& system, double frameTime) {
-  frameClock_ = std::chrono::steady_clock::now();
+  frameClock_ = now();
   prepare(system);
   StepReport report;
   report.guarded = true;
@@ -128,8 +133,7 @@ StepReport StabilityGuard::advance(System& system, double frameTime) {
     }
     inner_->setStepDivisor(1);
   }
-  report.wallSeconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - frameClock_).count();
+  report.wallSeconds = now() - frameClock_;
   stats_.add(report);
   return report;
 }
@@ -222,8 +226,7 @@ std::string StabilityGuard::attempt(System& system, double frameTime, int depth,
 
 std::string StabilityGuard::budgetSpent() const {
   if (params_.wallBudget <= 0.0) return {};
-  const double used =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - frameClock_).count();
+  const double used = now() - frameClock_;
   if (used < params_.wallBudget) return {};
   return format("the frame's wall-time budget of %.3g ms is spent (%.3g ms)",
                 1e3 * params_.wallBudget, 1e3 * used);

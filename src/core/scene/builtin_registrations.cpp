@@ -15,6 +15,7 @@ void registerVirtualHexahedronModel(Registry&);  // src/core/model/adamss/
 void registerAxialSpringModel(Registry&);        // src/core/model/adamss/
 void registerTorsionSpringModel(Registry&);      // src/core/model/adamss/
 void registerAxisFrictionModel(Registry&);       // src/core/model/adamss/
+void registerVolumeSpringModel(Registry&);       // src/core/model/adamss/
 // Material laws (src/core/material/*_registration.cpp).
 void registerStvkLaw(Registry&);
 void registerNeoHookeanLaw(Registry&);
@@ -37,6 +38,7 @@ void registerBuiltIns(Registry& registry) {
   registerAxialSpringModel(registry);
   registerTorsionSpringModel(registry);
   registerAxisFrictionModel(registry);
+  registerVolumeSpringModel(registry);
   registerStvkLaw(registry);
   registerNeoHookeanLaw(registry);
   registerVolumeLaw(registry);

@@ -13,6 +13,7 @@
 #include "tissue_trainer/core/model/adamss/axial_springs.h"
 #include "tissue_trainer/core/model/adamss/axis_friction.h"
 #include "tissue_trainer/core/model/adamss/torsion_springs.h"
+#include "tissue_trainer/core/model/adamss/volume_springs.h"
 
 namespace tt {
 namespace adamss {
@@ -225,6 +226,52 @@ TEST(AdamssSprings, FrictionVelocityJacobianDissipationAndRigidMotion) {
   EXPECT_LT(relDiff(frictionForce(AxisFrictionModel(cube, 3.0, Form::kArea), x, v), Eigen::VectorXd(h * h * plain)), 1e-12);
   EXPECT_LT(relDiff(frictionForce(AxisFrictionModel(cube, 3.0, Form::kVirtualHexahedron), x, v),
                     Eigen::VectorXd(h * h * plain)), 1e-12);
+}
+
+// Bourguignon's volume springs with the restoring sign: an element grown about its barycentre
+// is pulled back (sum f_i . xi_i < 0), a shrunk one pushed out; the gradient form is the
+// gradient of its energy with no net force; the printed form has a net force on an irregular
+// element; the hex damping opposes a radial velocity and ignores a translation.
+TEST(AdamssSprings, VolumeSpringsRestoreTheVolume) {
+  std::mt19937 rng(26);
+  const Mesh tets = boxMesh(2, 1, 1, 0.01, rng, 0.15);
+  const Mesh hexes = jitteredHexes(rng);
+  for (const Mesh* mesh : {&tets, &hexes}) {
+    SCOPED_TRACE(mesh->hexes.empty() ? "tets" : "hexes");
+    for (bool gradient : {false, true}) {
+      const VolumeSpringModel model(*mesh, {50.0, 0.0, gradient});
+      const Eigen::Vector3d centre = mesh->rest.rowwise().mean();
+      for (double scale : {1.1, 0.9}) {
+        Eigen::VectorXd x = restVector(*mesh);
+        for (int n = 0; n < mesh->numNodes(); ++n)
+          x.segment<3>(3 * n) = centre + scale * (mesh->rest.col(n) - centre);
+        const Eigen::VectorXd f = force(model, x);
+        double work = 0.0;  // f . (x - centre) over the nodes: < 0 pulls in, > 0 pushes out
+        for (int n = 0; n < mesh->numNodes(); ++n) work += f.segment<3>(3 * n).dot(x.segment<3>(3 * n) - centre);
+        EXPECT_LT(scale > 1 ? work : -work, 0.0) << "scale " << scale;
+      }
+      const Eigen::VectorXd x = perturbed(*mesh, 8e-4, rng);
+      const Eigen::VectorXd f = force(model, x);
+      if (gradient) {
+        EXPECT_LT(relDiff(f, Eigen::VectorXd(-fdGradient(model, x, 1e-8))), 1e-6);
+        EXPECT_LT(netForce(f).norm(), 1e-12 * f.norm());
+        EXPECT_LT(netMoment(x, f).norm(), 1e-12 * f.norm() * 0.01);
+      } else {
+        EXPECT_GT(netForce(f).norm(), 1e-3 * f.norm());
+      }
+    }
+  }
+  const VolumeSpringModel damped(hexes, {50.0, 2.0, true});
+  const Eigen::VectorXd x = restVector(hexes);
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(x.size());
+  for (int n = 0; n < hexes.numNodes(); ++n) v.segment<3>(3 * n) = Eigen::Vector3d(0.3, -0.1, 0.2);
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(x.size());
+  damped.addForce(x, v, f);
+  EXPECT_LT(f.norm(), 1e-12);
+  v = x;  // a uniform expansion rate about the origin
+  f.setZero();
+  damped.addForce(x, v, f);
+  EXPECT_LT(f.dot(v), 0.0);
 }
 
 }  // namespace
