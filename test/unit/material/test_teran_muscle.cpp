@@ -15,6 +15,7 @@
 #include "../model_test_util.h"
 #include "tissue_trainer/core/material/teran_muscle.h"
 #include "tissue_trainer/core/model/hyperelastic.h"
+#include "tissue_trainer/core/model/muscle_activation.h"
 
 namespace tt {
 namespace {
@@ -212,6 +213,34 @@ TEST(TeranMuscle, ProjectedElementStiffnessIsPositiveSemiDefinite) {
     EXPECT_LT((Hp * translation).norm(), 1e-9 * Hp.norm());
   }
   EXPECT_GT(indefinite, 10) << "the unprojected samples should include indefinite Hessians";
+}
+
+// The split for fitting (Eq. 4): f_0 + sum_m alpha_m f_m is the force of the law at the
+// activations alpha, per material, on a plain and on an inverted state.
+TEST(TeranMuscle, ActivationForcesSplitTheForceByMuscle) {
+  std::mt19937 rng(75);
+  const Mesh mesh = testutil::boxMesh(2, 2, 2, 0.01, rng);  // materials 0 and 1
+  std::vector<TeranMuscleLaw::Constants> k(2);
+  k[1].A = 2e4, k[1].sigmaMax = 1e5, k[1].deviatoricStretch = false;
+  const LawOptions options{0.25, false};
+  const MuscleActivationForces split(mesh, k, options);
+  ASSERT_EQ(split.numMuscles(), 2);
+  for (double squash : {1.0, -0.2}) {
+    Eigen::VectorXd x = perturbed(mesh, 0.1 * 0.01, rng);
+    for (int n = 0; n < mesh.numNodes(); ++n) x[3 * n + 2] *= squash;
+    for (const std::vector<double>& alpha : {std::vector<double>{0.3, 0.0},
+                                             std::vector<double>{0.0, 0.8},
+                                             std::vector<double>{0.55, 0.2}}) {
+      std::vector<TeranMuscleLaw::Constants> at = k;
+      for (int m = 0; m < 2; ++m) at[m].activation = alpha[m];
+      const Eigen::VectorXd f = force(HyperelasticModel<TeranMuscleLaw>(mesh, at, options), x);
+      ASSERT_TRUE(f.allFinite());
+      EXPECT_LT((split.totalForce(x, alpha) - f).lpNorm<Eigen::Infinity>(),
+                1e-12 * f.lpNorm<Eigen::Infinity>())
+          << alpha[0] << " " << alpha[1] << " squash " << squash;
+    }
+    for (int m = 0; m < 2; ++m) EXPECT_GT(split.activationForce(m, x).norm(), 0.0);
+  }
 }
 
 }  // namespace

@@ -77,6 +77,8 @@ struct TeranMuscleLaw {
     double sigmaMax = 3e5;              // Pa: peak isometric stress
     double activation = 0.0;            // alpha in [0, 1]
     bool deviatoricStretch = true;      // lam = J^(-1/3) |F a0| (else |F a0|)
+    bool passiveFibre = true;           // false: no t_p (with A = B = K = 0 and alpha = 1,
+                                        // the law is d psi / d alpha, the fitting's term)
   };
   struct Parameters {
     Constants k;
@@ -85,6 +87,13 @@ struct TeranMuscleLaw {
 
   static bool restStressFree(const Constants& k) { return k.activation == 0.0; }
   static double restEnergy(const Constants& k) { return 3.0 * (k.A + k.B); }
+  // The law of d psi / d alpha = sigma_max Phi_a(lam): psi is linear in alpha.
+  static Constants activationTerm(Constants k) {
+    k.A = k.B = k.K = 0.0;
+    k.activation = 1.0;
+    k.passiveFibre = false;
+    return k;
+  }
   static Parameters parameters(const Constants& k, const Eigen::Matrix3d& frame) {
     return {k, frame.col(0).normalized()};
   }
@@ -93,7 +102,8 @@ struct TeranMuscleLaw {
   static void fibre(const Constants& k, double lam, double& psi, double& tau, double& dtau) {
     double pa, ta, da, pp, tp, dp;
     MuscleFibreCurves::active(lam, pa, ta, da);
-    MuscleFibreCurves::passive(lam, pp, tp, dp);
+    pp = tp = dp = 0.0;
+    if (k.passiveFibre) MuscleFibreCurves::passive(lam, pp, tp, dp);
     psi = k.sigmaMax * (k.activation * pa + pp);
     tau = k.sigmaMax * (k.activation * ta + tp);
     dtau = k.sigmaMax * (k.activation * da + dp);
