@@ -14,6 +14,8 @@
 #include <vector>
 
 #include "tissue_trainer/core/error.h"
+#include "tissue_trainer/core/material/teran_muscle.h"
+#include "tissue_trainer/core/model/hyperelastic.h"
 #include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/mesh/mesh_io.h"
 #include "tissue_trainer/core/mesh/quality.h"
@@ -34,6 +36,10 @@ const char* const kUsage =
     "                                       (N: threads of the element loops, default: the cores)\n"
     "  tissue_cli forces --mesh MESH --deformed POSITIONS --model NAME --lambda L --mu M\n"
     "                    [--lambda-l LL --mu-l ML --fiber X Y Z] [--stiffness-times DIR]\n"
+    "  tissue_cli forces --mesh MESH --deformed POSITIONS --model teran_muscle --mooney-rivlin A B\n"
+    "                    --bulk K --peak-stress SIGMA_MAX --activation ALPHA --fiber X Y Z\n"
+    "                    --fiber-stretch deviatoric|nondeviatoric [--inversion-threshold EPS]\n"
+    "                    [--psd] [--stiffness-times DIR]\n"
     "  tissue_cli forces --scene SCENE.yaml --deformed POSITIONS [--stiffness-times DIR]\n"
     "  tissue_cli models                    (every registered force model, law and integrator)\n";
 
@@ -298,10 +304,80 @@ int forcesOfScene(const Arguments& args) {
   return printForcesAt(args, models, s.pattern, s.numNodes());
 }
 
+// The flags of the muscle law; the other flag-form models take none of them.
+const char* const kMuscleFlags[] = {"mooney-rivlin", "bulk", "peak-stress", "activation",
+                                    "fiber-stretch", "inversion-threshold", "psd"};
+
+double nonNegativeFlag(const Arguments& args, const std::string& name, size_t index = 0) {
+  const double v = args.number(name, index);
+  if (!(v >= 0.0)) throw UsageError("--" + name + " expects a value >= 0, got '" +
+                                    args.options.at(name).at(index) + "'");
+  return v;
+}
+
+// `forces --model teran_muscle`: the law's constants and options from the flags (Pa), one
+// fibre direction for every tet.
+int forcesOfMuscle(const Arguments& args, tt::Mesh& mesh) {
+  for (const char* flag : {"lambda", "mu", "lambda-l", "mu-l"})
+    if (args.has(flag))
+      throw UsageError(std::string("--") + flag + " does not apply to --model teran_muscle");
+  if (!args.has("fiber")) throw UsageError("missing --fiber (teran_muscle needs a fibre direction)");
+  tt::TeranMuscleLaw::Constants k;
+  k.A = nonNegativeFlag(args, "mooney-rivlin", 0);
+  k.B = nonNegativeFlag(args, "mooney-rivlin", 1);
+  k.K = nonNegativeFlag(args, "bulk");
+  k.sigmaMax = nonNegativeFlag(args, "peak-stress");
+  k.activation = args.number("activation");
+  if (!(k.activation >= 0.0 && k.activation <= 1.0))
+    throw UsageError("--activation expects a value in [0, 1], got '" + args.text("activation") + "'");
+  const std::string& stretch = args.text("fiber-stretch");
+  if (stretch != "deviatoric" && stretch != "nondeviatoric")
+    throw UsageError("--fiber-stretch expects deviatoric or nondeviatoric, got '" + stretch + "'");
+  k.deviatoricStretch = stretch == "deviatoric";
+  tt::LawOptions options;
+  options.inversionThreshold = 0.25;  // PhysBAM's default
+  if (args.has("inversion-threshold")) {
+    options.inversionThreshold = args.number("inversion-threshold");
+    if (!(options.inversionThreshold >= 0.0 && options.inversionThreshold < 1.0))
+      throw UsageError("--inversion-threshold expects a value in [0, 1) (0 turns it off), got '" +
+                       args.text("inversion-threshold") + "'");
+  }
+  options.psdProjection = args.has("psd");
+  std::unique_ptr<tt::ForceModel> model;
+  try {
+    model = std::make_unique<tt::HyperelasticModel<tt::TeranMuscleLaw>>(
+        mesh, std::vector<tt::TeranMuscleLaw::Constants>{k}, options);
+  } catch (const std::invalid_argument& e) {  // an element inverted or flat at rest
+    throw UsageError(e.what());
+  }
+  return printForcesAt(args, {model.get()}, tt::meshPattern(mesh), mesh.numNodes());
+}
+
 int forces(const Arguments& args) {
   if (!args.positional.empty()) throw UsageError("forces takes only options");
-  if (args.has("scene")) return forcesOfScene(args);
+  if (args.has("scene")) {
+    for (const char* flag : kMuscleFlags)
+      if (args.has(flag))
+        throw UsageError(std::string("--") + flag + " belongs to the --mesh form, not to --scene");
+    return forcesOfScene(args);
+  }
+  const bool muscle = args.text("model") == tt::TeranMuscleLaw::kName;
+  if (!muscle)
+    for (const char* flag : kMuscleFlags)
+      if (args.has(flag))
+        throw UsageError(std::string("--") + flag + " applies to --model teran_muscle only");
   tt::Mesh mesh = tt::readMesh(args.text("mesh"));
+  if (muscle) {
+    if (args.has("fiber")) {
+      Eigen::Vector3d a0(args.number("fiber", 0), args.number("fiber", 1), args.number("fiber", 2));
+      if (a0.norm() == 0.0) throw UsageError("--fiber expects a non-zero direction");
+      for (Eigen::Matrix3d& frame : mesh.fibreFrame) frame.col(0) = a0.normalized();
+      for (Eigen::Matrix3d& frame : mesh.hexFibreFrame) frame.col(0) = a0.normalized();
+    }
+    mesh.material.assign(mesh.numTets(), 0);
+    mesh.hexMaterial.assign(mesh.numHexes(), 0);
+    return forcesOfMuscle(args, mesh);
+  }
   tt::Material material;
   material.lambda = args.number("lambda");
   material.mu = args.number("mu");
@@ -368,7 +444,9 @@ int main(int argc, char** argv) {
       return forces(Arguments(argc, argv, 2,
                               {{"mesh", 1}, {"deformed", 1}, {"model", 1}, {"lambda", 1},
                                {"mu", 1}, {"lambda-l", 1}, {"mu-l", 1}, {"fiber", 3},
-                               {"scene", 1}, {"stiffness-times", 1}}));
+                               {"scene", 1}, {"stiffness-times", 1}, {"mooney-rivlin", 2},
+                               {"bulk", 1}, {"peak-stress", 1}, {"activation", 1},
+                               {"fiber-stretch", 1}, {"inversion-threshold", 1}, {"psd", 0}}));
     if (command == "models") return models(Arguments(argc, argv, 2, {}));
     throw UsageError("unknown command '" + command + "'");
   } catch (const tt::InputError& e) {

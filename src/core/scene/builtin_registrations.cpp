@@ -22,6 +22,7 @@ void registerNeoHookeanLaw(Registry&);
 void registerVolumeLaw(Registry&);
 void registerHunterLaw(Registry&);
 void registerHunterPolynomialLaw(Registry&);
+void registerTeranMuscleLaw(Registry&);
 // Integrators (src/core/integrate/*_registration.cpp).
 void registerBackwardEuler(Registry&);
 void registerNewtonian(Registry&);
@@ -44,6 +45,7 @@ void registerBuiltIns(Registry& registry) {
   registerVolumeLaw(registry);
   registerHunterLaw(registry);
   registerHunterPolynomialLaw(registry);
+  registerTeranMuscleLaw(registry);
   registerBackwardEuler(registry);
   registerNewtonian(registry);
   registerRadauIIA(registry);

@@ -17,6 +17,7 @@
 #include "tissue_trainer/core/material/neo_hookean.h"
 #include "tissue_trainer/core/material/psd_projection.h"
 #include "tissue_trainer/core/material/stvk.h"
+#include "tissue_trainer/core/material/teran_muscle.h"
 #include "tissue_trainer/core/material/volume.h"
 
 namespace tt {
@@ -44,6 +45,47 @@ HunterLaw::Constants sampleConstants<HunterLaw>() {
 template <>
 HunterPolynomialLaw::Constants sampleConstants<HunterPolynomialLaw>() {
   return {};  // Table 2.1, switch at 0.9 of each pole, degree 3
+}
+// The muscle law in its option combinations: each fibre stretch, active and passive.
+template <bool Deviatoric, bool Active>
+struct TeranMuscle : TeranMuscleLaw {};
+template <class Law>
+struct IsTeranMuscle : std::false_type {};
+template <bool D, bool A>
+struct IsTeranMuscle<TeranMuscle<D, A>> : std::true_type {};
+template <class Law>
+typename Law::Constants sampleTeranConstants() {
+  TeranMuscleLaw::Constants k;  // PhysBAM's defaults
+  k.deviatoricStretch = std::is_same_v<Law, TeranMuscle<true, true>> ||
+                        std::is_same_v<Law, TeranMuscle<true, false>>;
+  k.activation = std::is_same_v<Law, TeranMuscle<true, true>> ||
+                         std::is_same_v<Law, TeranMuscle<false, true>>
+                     ? 0.6
+                     : 0.0;
+  return k;
+}
+template <>
+TeranMuscleLaw::Constants sampleConstants<TeranMuscle<true, true>>() {
+  return sampleTeranConstants<TeranMuscle<true, true>>();
+}
+template <>
+TeranMuscleLaw::Constants sampleConstants<TeranMuscle<false, true>>() {
+  return sampleTeranConstants<TeranMuscle<false, true>>();
+}
+template <>
+TeranMuscleLaw::Constants sampleConstants<TeranMuscle<true, false>>() {
+  return sampleTeranConstants<TeranMuscle<true, false>>();
+}
+template <>
+TeranMuscleLaw::Constants sampleConstants<TeranMuscle<false, false>>() {
+  return sampleTeranConstants<TeranMuscle<false, false>>();
+}
+
+// The energy density at rest: 0 except for the muscle law, which keeps Eq. 10's 3 (A + B).
+template <class Law>
+double restEnergy(const typename Law::Constants& k) {
+  if constexpr (IsTeranMuscle<Law>::value) return Law::restEnergy(k);
+  return 0.0;
 }
 
 Eigen::Matrix3d randomGradient(std::mt19937& rng, double amplitude) {
@@ -104,7 +146,9 @@ class LawConformance : public ::testing::Test {
 };
 
 using LawTypes =
-    ::testing::Types<StvkLaw, NeoHookeanLaw, VolumeLaw, HunterLaw, HunterPolynomialLaw>;
+    ::testing::Types<StvkLaw, NeoHookeanLaw, VolumeLaw, HunterLaw, HunterPolynomialLaw,
+                     TeranMuscle<true, true>, TeranMuscle<false, true>, TeranMuscle<true, false>,
+                     TeranMuscle<false, false>>;
 TYPED_TEST_SUITE(LawConformance, LawTypes);
 
 TYPED_TEST(LawConformance, StressIsTheEnergyGradient) {
@@ -158,9 +202,21 @@ TYPED_TEST(LawConformance, NoStressAtRestWhereTheLawHasNone) {
   using Law = TypeParam;
   std::mt19937 rng(14);
   const auto k = sampleConstants<Law>();
+  if constexpr (IsTeranMuscle<Law>::value) {
+    if (k.activation > 0.0) {  // an active muscle pulls at rest: t_a(1) = 1
+      EXPECT_FALSE(Law::restStressFree(k));
+      const auto p = this->params(rng);
+      Eigen::Matrix3d expected = p.a0 * p.a0.transpose();
+      if (k.deviatoricStretch) expected -= Eigen::Matrix3d::Identity() / 3.0;
+      expected *= k.sigmaMax * k.activation;
+      EXPECT_LT(relative(Law::stress(p, Eigen::Matrix3d::Identity()), expected), 1e-12);
+      return;
+    }
+  }
   ASSERT_TRUE(Law::restStressFree(k));
   const auto p = this->params(rng);
-  EXPECT_EQ(Law::energy(p, Eigen::Matrix3d::Identity()), 0.0);
+  EXPECT_NEAR(Law::energy(p, Eigen::Matrix3d::Identity()), restEnergy<Law>(k),
+              1e-15 * restEnergy<Law>(k));
   EXPECT_LT(Law::stress(p, Eigen::Matrix3d::Identity()).norm(), 1e-9);
 }
 

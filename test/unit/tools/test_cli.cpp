@@ -12,7 +12,9 @@
 #include <string>
 
 #include "tissue_trainer/core/mesh/generators.h"
+#include "tissue_trainer/core/material/teran_muscle.h"
 #include "tissue_trainer/core/mesh/mesh_io.h"
+#include "tissue_trainer/core/model/hyperelastic.h"
 #include "tissue_trainer/core/model/edge_length.h"
 #include "tissue_trainer/core/model/stvk_displacement.h"
 #include "tissue_trainer/core/scene/registry.h"
@@ -399,6 +401,149 @@ TEST(Cli, ForcesOfASceneRejectBadInputInOneLine) {
     const Result r = runCli(c.arguments);
     EXPECT_EQ(r.exitCode, 2) << c.arguments;
     EXPECT_EQ(r.err.rfind(c.error, 0), 0u) << c.arguments << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+  }
+}
+
+// --- forces --model teran_muscle ------------------------------------------------------------
+
+struct MuscleCase {
+  Mesh mesh;
+  std::string files;  // --mesh, --deformed, --stiffness-times
+  Eigen::VectorXd x, d;
+};
+
+// A 2 cm box of tets compressed along z by `squash` (0.6: compressed; -0.3: every tet
+// inverted) with a smooth wobble, and a direction d.
+MuscleCase muscleCase(const std::string& tag, double squash) {
+  MuscleCase c;
+  const fs::path dir = fs::temp_directory_path() / "tt_cli_scene";
+  fs::create_directories(dir);
+  writeMesh((dir / "muscle.vtu").string(),
+            boxGrid(3, 3, 3, Eigen::Vector3d(0.02, 0.02, 0.02), TetSplit::kFiveMirrored));
+  c.mesh = readMesh((dir / "muscle.vtu").string());
+  c.x = c.mesh.rest.reshaped();
+  c.d.resize(c.x.size());
+  for (int i = 0; i < c.x.size(); ++i) {
+    if (i % 3 == 2) c.x[i] *= squash;
+    c.x[i] += 0.001 * std::sin(1.3 * i);
+    c.d[i] = std::cos(0.7 * i);
+  }
+  c.files = " --mesh " + (dir / "muscle.vtu").string() + " --deformed " +
+            writeNodeVectors(tag + "_x.txt", c.x).string() + " --stiffness-times " +
+            writeNodeVectors(tag + "_d.txt", c.d).string();
+  return c;
+}
+
+const char* const kMuscleFlags =
+    " --model teran_muscle --mooney-rivlin 6e4 2e4 --bulk 6e4 --peak-stress 3e5"
+    " --activation 0.6 --fiber 1 2 2";
+
+// The core model the flags describe: fibre (1, 2, 2)/3 in every tet.
+HyperelasticModel<TeranMuscleLaw> muscleModel(Mesh mesh, bool deviatoric, double threshold,
+                                              bool psd) {
+  for (Eigen::Matrix3d& frame : mesh.fibreFrame) frame.col(0) = Eigen::Vector3d(1, 2, 2) / 3.0;
+  mesh.material.assign(mesh.numTets(), 0);
+  TeranMuscleLaw::Constants k;  // 6e4, 2e4, 6e4, 3e5
+  k.activation = 0.6;
+  k.deviatoricStretch = deviatoric;
+  return HyperelasticModel<TeranMuscleLaw>(mesh, {k}, {threshold, psd});
+}
+
+// Energy, forces and H d of the flag form are the core model's (threshold 0.25 by default),
+// with --psd the projected H d, on compressed and inverted states, for both fibre stretches.
+TEST(Cli, FlagFormTeranMuscleIsTheCoreLaw) {
+  for (double squash : {0.6, -0.3}) {
+    const MuscleCase c = muscleCase(squash > 0 ? "compressed" : "inverted", squash);
+    for (bool deviatoric : {true, false}) {
+      for (bool psd : {false, true}) {
+        const std::string flags = c.files + kMuscleFlags + " --fiber-stretch " +
+                                  (deviatoric ? "deviatoric" : "nondeviatoric") +
+                                  (psd ? " --psd" : "");
+        const Result r = runCli("forces" + flags);
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        const ForcesOutput out = parseForces(r.out, c.mesh.numNodes(), true);
+        const auto model = muscleModel(c.mesh, deviatoric, 0.25, psd);
+        Eigen::VectorXd f = Eigen::VectorXd::Zero(c.x.size());
+        const double energy = model.addForce(c.x, Eigen::VectorXd::Zero(c.x.size()), f);
+        Eigen::VectorXd Hd = Eigen::VectorXd::Zero(c.x.size());
+        model.addStiffnessTimes(c.x, c.d, -1.0, Hd);
+        ASSERT_TRUE(out.force.allFinite() && out.stiffnessTimes.allFinite());
+        EXPECT_NEAR(out.energy, energy, 1e-14 * std::abs(energy));
+        EXPECT_LT((out.force - f).norm(), 1e-14 * f.norm());
+        EXPECT_LT((out.stiffnessTimes - Hd).norm(), 1e-14 * Hd.norm());
+        if (psd) EXPECT_GE(c.d.dot(out.stiffnessTimes), 0.0);
+      }
+    }
+    // --inversion-threshold 0 on the inverted box: the bare law, an infinite energy.
+    if (squash < 0) {
+      const Result bare = runCli("forces" + c.files + kMuscleFlags +
+                                 " --fiber-stretch deviatoric --inversion-threshold 0");
+      ASSERT_EQ(bare.exitCode, 0) << bare.err;
+      EXPECT_EQ(bare.out.rfind("energy inf", 0), 0u) << bare.out.substr(0, 40);
+    }
+  }
+}
+
+// At rest with alpha = 0 no force, and the energy is V 3 (A + B) (Eq. 10's constant).
+TEST(Cli, FlagFormTeranMuscleAtRestHasTheConstantEnergy) {
+  const MuscleCase c = muscleCase("rest", 1.0);
+  const fs::path dir = fs::temp_directory_path() / "tt_cli_scene";
+  const Eigen::VectorXd rest = c.mesh.rest.reshaped();
+  const Result r = runCli("forces --mesh " + (dir / "muscle.vtu").string() + " --deformed " +
+                          writeNodeVectors("rest_x.txt", rest).string() +
+                          " --model teran_muscle --mooney-rivlin 5e3 1e3 --bulk 1e5"
+                          " --peak-stress 3e5 --activation 0 --fiber 0 0 1"
+                          " --fiber-stretch nondeviatoric");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const ForcesOutput out = parseForces(r.out, c.mesh.numNodes(), false);
+  const double volume = 0.02 * 0.02 * 0.02;
+  EXPECT_NEAR(out.energy, volume * 3.0 * (5e3 + 1e3), 1e-12 * out.energy);
+  EXPECT_LT(out.force.cwiseAbs().maxCoeff(), 1e-12);
+}
+
+TEST(Cli, FlagFormTeranMuscleRejectsBadFlagsInOneLine) {
+  const MuscleCase c = muscleCase("bad", 0.9);
+  // The good flags with one replaced (value "" drops it).
+  const auto with = [&](const std::string& flag, const std::string& value) {
+    const std::vector<std::pair<std::string, std::string>> good = {
+        {"model", "teran_muscle"}, {"mooney-rivlin", "6e4 2e4"}, {"bulk", "6e4"},
+        {"peak-stress", "3e5"},    {"activation", "0.6"},        {"fiber", "1 2 2"},
+        {"fiber-stretch", "deviatoric"}};
+    std::string args = c.files;
+    for (const auto& [name, v] : good) {
+      const std::string use = name == flag ? value : v;
+      if (!use.empty()) args += " --" + name + " " + use;
+    }
+    if (flag.rfind("extra ", 0) == 0) args += " " + flag.substr(6) + " " + value;
+    return args;
+  };
+  struct Case {
+    std::string arguments, error;
+  };
+  const std::vector<Case> cases = {
+      {with("bulk", ""), "tissue_cli: missing --bulk"},
+      {with("fiber-stretch", ""), "tissue_cli: missing --fiber-stretch"},
+      {with("fiber", ""), "tissue_cli: missing --fiber"},
+      {with("fiber-stretch", "isochoric"),
+       "tissue_cli: --fiber-stretch expects deviatoric or nondeviatoric, got 'isochoric'"},
+      {with("activation", "1.5"), "tissue_cli: --activation expects a value in [0, 1], got '1.5'"},
+      {with("bulk", "-1"), "tissue_cli: --bulk expects a value >= 0, got '-1'"},
+      {with("peak-stress", "soft"), "tissue_cli: --peak-stress expects a finite number, got 'soft'"},
+      {with("extra --inversion-threshold", "1"),
+       "tissue_cli: --inversion-threshold expects a value in [0, 1) (0 turns it off), got '1'"},
+      {with("extra --mu", "1000"), "tissue_cli: --mu does not apply to --model teran_muscle"},
+      {with("fiber", "0 0 0"), "tissue_cli: --fiber expects a non-zero direction"},
+      {c.files + " --fiber 1 2 2 --fiber-stretch deviatoric --mooney-rivlin 6e4",
+       "tissue_cli: --mooney-rivlin expects 2 value(s)"},
+      {c.files + " --model hyperelastic_neo_hookean --lambda 2000 --mu 1000 --psd",
+       "tissue_cli: --psd applies to --model teran_muscle only"},
+  };
+  for (const Case& k : cases) {
+    const Result r = runCli("forces" + k.arguments);
+    EXPECT_EQ(r.exitCode, 2) << k.arguments;
+    EXPECT_EQ(r.err.rfind(k.error, 0), 0u) << k.arguments << "\n" << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_TRUE(r.out.empty()) << r.out;
   }

@@ -1,0 +1,89 @@
+// The muscle law in a scene: a material's `teran_muscle` map (stresses in the entry's
+// stress_unit, PhysBAM's defaults where left out) reaches the law, and each malformed entry
+// is one InputError naming the file, the line and the key.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "scene_test_util.h"
+#include "tissue_trainer/core/material/teran_muscle.h"
+#include "tissue_trainer/core/scene/scene.h"
+
+namespace tt {
+namespace {
+
+// Line numbers below refer to this text.
+const char* const kMuscleScene = R"(name: muscle_patch
+mesh: {generator: box, nodes: [3, 3, 3], size: [0.01, 0.01, 0.01]}
+fibres: {direction: [1, 1, 0]}
+materials:
+  - young_modulus: 60
+    poisson_ratio: 0.45
+    stress_unit: kPa
+    teran_muscle:
+      mooney_rivlin: [50, 10]
+      bulk: 400
+      peak_stress: 200
+      activation: 0.4
+      fiber_stretch: nondeviatoric
+force_models:
+  - type: hyperelastic
+    law: teran_muscle
+integrator: {type: backward_euler}
+)";
+
+using testutil::writeScene;
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return at == std::string::npos ? text : text.replace(at, from.size(), to);
+}
+
+// The model's energy under x = A X is V psi(A) with the constants the scene should give.
+void expectConstants(const Scene& scene, const TeranMuscleLaw::Constants& k) {
+  const System& s = scene.system;
+  ASSERT_EQ(s.models.size(), 1u);
+  Eigen::Matrix3d A;
+  A << 1.12, 0.04, -0.02, 0.03, 0.96, 0.05, -0.01, 0.02, 1.07;
+  Eigen::VectorXd x(3 * s.mesh.numNodes());
+  for (int n = 0; n < s.mesh.numNodes(); ++n) x.segment<3>(3 * n) = A * s.mesh.rest.col(n);
+  const double psi =
+      TeranMuscleLaw::energy(TeranMuscleLaw::parameters(k, s.mesh.fibreFrame[0]), A);
+  EXPECT_NEAR(s.models[0]->energy(x), 1e-6 * psi, 1e-12 * 1e-6 * psi);
+}
+
+TEST(TeranMuscleScene, MaterialKeysReachTheLaw) {
+  TeranMuscleLaw::Constants given;
+  given.A = 5e4, given.B = 1e4, given.K = 4e5, given.sigmaMax = 2e5, given.activation = 0.4;
+  given.deviatoricStretch = false;
+  expectConstants(loadScene(writeScene("muscle.yaml", kMuscleScene)), given);
+  // Without the map: PhysBAM's defaults.
+  const std::string bare = replaced(
+      kMuscleScene,
+      "    teran_muscle:\n      mooney_rivlin: [50, 10]\n      bulk: 400\n      peak_stress: 200\n"
+      "      activation: 0.4\n      fiber_stretch: nondeviatoric\n",
+      "");
+  expectConstants(loadScene(writeScene("muscle_defaults.yaml", bare)), TeranMuscleLaw::Constants{});
+}
+
+TEST(TeranMuscleScene, EachMalformedEntryNamesFileLineAndKey) {
+  const std::string s = kMuscleScene;
+  const std::vector<testutil::BadScene> cases = {
+      {"three Mooney-Rivlin constants", replaced(s, "[50, 10]", "[50, 10, 3]"), 9,
+       "materials[0].teran_muscle.mooney_rivlin: expected a list of 2 numbers A, B, got 3"},
+      {"negative bulk", replaced(s, "bulk: 400", "bulk: -4"), 10,
+       "materials[0].teran_muscle.bulk: expected a stress >= 0, got '-4'"},
+      {"activation above 1", replaced(s, "activation: 0.4", "activation: 1.5"), 12,
+       "materials[0].teran_muscle.activation: expected an activation in [0, 1], got '1.5'"},
+      {"unknown stretch", replaced(s, "fiber_stretch: nondeviatoric", "fiber_stretch: isochoric"),
+       13, "materials[0].teran_muscle.fiber_stretch"},
+      {"unknown key", replaced(s, "bulk: 400", "kappa: 400"), 10,
+       "materials[0].teran_muscle.kappa: unknown key 'kappa'"},
+  };
+  testutil::expectEachSceneFailsClearly(cases, "bad_muscle.yaml");
+}
+
+}  // namespace
+}  // namespace tt
