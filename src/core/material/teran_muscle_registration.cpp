@@ -6,7 +6,7 @@
 #include <string>
 
 #include "tissue_trainer/core/material/teran_muscle.h"
-#include "tissue_trainer/core/model/hyperelastic_factory.h"
+#include "tissue_trainer/core/model/law_model_factory.h"
 
 namespace tt {
 namespace {
@@ -58,7 +58,7 @@ void registerTeranMuscleLaw(Registry& registry) {
       "fibre axis; psi(I) = 3 (A + B); J > 0, so inverting scenes add inversion_threshold "
       "(0.25 in PhysBAM)",
       {{"teran_muscle", kTeranKeyDoc}},
-      hyperelasticFactory<TeranMuscleLaw>(
+      lawModelFactory<TeranMuscleLaw>(
           [](const YamlEntry* entry, const Material&) { return readTeran(entry); })});
 }
 
