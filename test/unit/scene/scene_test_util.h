@@ -1,6 +1,7 @@
 #pragma once
-// Shared by the scene tests: a scene text written to a file of the temporary directory, and
-// the check that each of a list of malformed scenes fails with one clear line.
+// Shared by the scene tests: a text substitution, a scene text written to a file of the
+// temporary directory, and the check that each of a list of malformed scenes fails with one
+// clear line.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -13,6 +14,13 @@
 
 namespace tt {
 namespace testutil {
+
+// `text` with the first `from` replaced by `to` (a test failure when there is none).
+inline std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return at == std::string::npos ? text : text.replace(at, from.size(), to);
+}
 
 // Writes `text` to <temp>/tt_scene_tests/<name> and returns that path.
 inline std::string writeScene(const std::string& name, const std::string& text) {

@@ -27,11 +27,7 @@ force_models:
 integrator: {type: symplectic_euler, time_step: 1e-5}
 )";
 
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return at == std::string::npos ? text : text.replace(at, from.size(), to);
-}
+using testutil::replaced;
 
 TEST(AdamssSpringScene, KeysReachTheModels) {
   const Scene scene = loadScene(testutil::writeScene("springs.yaml", kSpringScene));

@@ -35,11 +35,7 @@ integrator: {type: backward_euler}
 
 using testutil::writeScene;
 
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return at == std::string::npos ? text : text.replace(at, from.size(), to);
-}
+using testutil::replaced;
 
 // The model's energy under x = A X is V psi(A) with the constants the scene should give.
 void expectConstants(const Scene& scene, const TeranMuscleLaw::Constants& k) {

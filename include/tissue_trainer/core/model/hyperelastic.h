@@ -75,16 +75,10 @@ class HyperelasticModel final : public ForceModel {
   bool hasStiffness() const override { return true; }
   void addStiffness(const Eigen::VectorXd& x, double scale, const SparsePattern& pattern,
                     SparseMatrix& K) const override {
-    forEachTetByRows(pattern, static_cast<int>(tets_.nodes.size()), [&](int e, TetRows rows) {
-      pattern.addTetBlock(K, e, scale * elementStiffness(tets_, x, e), rows);
-    });
-    for (int e = 0; e < static_cast<int>(hexes_.nodes.size()); ++e) {
-      const auto Ke = elementStiffness(hexes_, x, e);
-      for (int a = 0; a < Hex8::kNodes; ++a)
-        for (int b = 0; b < Hex8::kNodes; ++b)
-          pattern.addNodeBlock(K, hexes_.nodes[e][a], hexes_.nodes[e][b],
-                               scale * Ke.template block<3, 3>(3 * a, 3 * b));
-    }
+    addElementStiffness(
+        pattern, K, scale, static_cast<int>(tets_.nodes.size()),
+        [&](int e) { return elementStiffness(tets_, x, e); }, hexes_.nodes,
+        [&](int e) { return elementStiffness(hexes_, x, e); });
   }
 
   bool hasStiffnessProduct() const override { return true; }

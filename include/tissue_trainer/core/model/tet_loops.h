@@ -115,4 +115,23 @@ void forEachTetByRows(const SparsePattern& pattern, int count, const AddTet& add
   });
 }
 
+// K += scale * the element stiffness blocks of a model's tets and hexes: tetBlock(e) is the
+// 12 x 12 and hexBlock(e) the 24 x 24 block (node-major: row 3 p + i) of element e. Tets run
+// as forEachTetByRows does, hexes on one thread.
+template <class TetBlock, class HexBlock>
+void addElementStiffness(const SparsePattern& pattern, SparseMatrix& K, double scale,
+                         int tetCount, const TetBlock& tetBlock, const std::vector<Hex>& hexes,
+                         const HexBlock& hexBlock) {
+  forEachTetByRows(pattern, tetCount, [&](int e, TetRows rows) {
+    pattern.addTetBlock(K, e, scale * tetBlock(e), rows);
+  });
+  for (int e = 0; e < static_cast<int>(hexes.size()); ++e) {
+    const auto Ke = hexBlock(e);
+    for (int a = 0; a < 8; ++a)
+      for (int b = 0; b < 8; ++b)
+        pattern.addNodeBlock(K, hexes[e][a], hexes[e][b],
+                             scale * Ke.template block<3, 3>(3 * a, 3 * b));
+  }
+}
+
 }  // namespace tt

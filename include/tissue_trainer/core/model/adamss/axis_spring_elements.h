@@ -52,17 +52,10 @@ class AxisSpringElements {
   template <class HessianOf>
   void addStiffness(const Eigen::VectorXd& x, double scale, const SparsePattern& pattern,
                     SparseMatrix& K, const HessianOf& hessianOf) const {
-    forEachTetByRows(pattern, tetCount(), [&](int e, TetRows rows) {
-      pattern.addTetBlock(K, e, scale * nodalStiffness<4>(x, tets_[e], tetRest_[e], hessianOf),
-                          rows);
-    });
-    for (int e = 0; e < hexCount(); ++e) {
-      const auto Ke = nodalStiffness<8>(x, hexes_[e], hexRest_[e], hessianOf);
-      for (int a = 0; a < 8; ++a)
-        for (int b = 0; b < 8; ++b)
-          pattern.addNodeBlock(K, hexes_[e][a], hexes_[e][b],
-                               scale * Ke.template block<3, 3>(3 * a, 3 * b));
-    }
+    addElementStiffness(
+        pattern, K, scale, tetCount(),
+        [&](int e) { return nodalStiffness<4>(x, tets_[e], tetRest_[e], hessianOf); }, hexes_,
+        [&](int e) { return nodalStiffness<8>(x, hexes_[e], hexRest_[e], hessianOf); });
   }
 
   template <class HessianOf>
