@@ -61,6 +61,11 @@ double System::computeForce(const Eigen::VectorXd& x, const Eigen::VectorXd& v,
   return energy;
 }
 
+void System::beginStep(double t) {
+  for (auto& model : models)
+    if (model->needsStepUpdates()) model->beginStep(t, state.x, state.v);
+}
+
 double System::potentialEnergy(const Eigen::VectorXd& x) const {
   double energy = 0.0;
   for (const auto& model : models) energy += model->energy(x);

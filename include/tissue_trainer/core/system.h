@@ -52,6 +52,10 @@ class System {
   double potentialEnergy(const Eigen::VectorXd& x) const;
   double kineticEnergy(const Eigen::VectorXd& v) const;
 
+  // Tells the models that need it (ForceModel::needsStepUpdates) that a step starts at time t
+  // from the current state.
+  void beginStep(double t);
+
   // Rebuilds the pattern with the node pairs the models declare (ForceModel::couplings);
   // call after adding models that declare any.
   void addCouplingsToPattern();

@@ -51,6 +51,15 @@ class ForceModel {
                                    double /*scale*/, const SparsePattern& /*pattern*/,
                                    SparseMatrix& /*C*/) const {}
 
+  // Models whose forces change with time or adapt between steps (a time curve of active
+  // tension, a cavity pressure, an adaptive spring) answer true; the frame loop then calls
+  // beginStep before every step attempt with the time, positions and velocities at the step's
+  // start, and the step's forces are those of that time. A rejected step is attempted again
+  // from the same start, so beginStep must give the same result when called twice with it.
+  virtual bool needsStepUpdates() const { return false; }
+  virtual void beginStep(double /*t*/, const Eigen::VectorXd& /*x*/,
+                         const Eigen::VectorXd& /*v*/) {}
+
   // Node pairs this model couples beyond the mesh's elements (springs between arbitrary
   // nodes); the system's sparse pattern is built to include them.
   virtual std::vector<std::array<int, 2>> couplings() const { return {}; }
