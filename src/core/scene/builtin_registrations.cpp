@@ -17,6 +17,7 @@ void registerTorsionSpringModel(Registry&);      // src/core/model/adamss/
 void registerAxisFrictionModel(Registry&);       // src/core/model/adamss/
 void registerVolumeSpringModel(Registry&);       // src/core/model/adamss/
 void registerCavityModel(Registry&);             // src/core/model/adamss/
+void registerLmsVolumeSpringModel(Registry&);   // src/core/model/adamss/
 // Material laws (src/core/material/*_registration.cpp).
 void registerStvkLaw(Registry&);
 void registerNeoHookeanLaw(Registry&);
@@ -42,6 +43,7 @@ void registerBuiltIns(Registry& registry) {
   registerAxisFrictionModel(registry);
   registerVolumeSpringModel(registry);
   registerCavityModel(registry);
+  registerLmsVolumeSpringModel(registry);
   registerStvkLaw(registry);
   registerNeoHookeanLaw(registry);
   registerVolumeLaw(registry);

@@ -1,4 +1,5 @@
-// Malformed adamss_cavity entries: each is one InputError naming the file, the line and the key.
+// Malformed adamss_cavity and adamss_lms_volume_springs entries: each is one InputError naming
+// the file, the line and the key.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -35,12 +36,23 @@ std::string withLine9(const std::string& line) {
   return replaced(kScene, "    pressure: 1.0\n", line);
 }
 
+std::string withLms(const std::string& entry) {
+  return replaced(kScene,
+                  "  - type: adamss_cavity\n    faces: " + kFaces + "\n    pressure: 1.0\n",
+                  entry);
+}
+
 TEST(MalformedCavity, TheGoodScenesLoad) {
   const Scene scene = loadScene(testutil::writeScene("cavity_good.yaml", kScene));
   EXPECT_STREQ(scene.system.models.at(1)->name(), "adamss_cavity");
   const std::string surface = replaced(
       kScene, "faces: " + kFaces, "surface: {box: {min: [-1, -1, -1], max: [1, 1, 1]}}");
   EXPECT_NO_THROW(loadScene(testutil::writeScene("cavity_surface.yaml", surface)));
+  const Scene lms = loadScene(testutil::writeScene(
+      "lms_good.yaml",
+      replaced(withLms("  - {type: adamss_lms_volume_springs, stiffness: 10, rate: 1e9}\n"),
+               "{type: backward_euler}", "{type: symplectic_euler, time_step: 1e-5}")));
+  EXPECT_TRUE(lms.system.models.at(1)->needsStepUpdates());
 }
 
 TEST(MalformedCavity, EachErrorNamesFileLineAndKey) {
@@ -81,6 +93,16 @@ TEST(MalformedCavity, EachErrorNamesFileLineAndKey) {
        "no boundary face of the mesh has all its nodes selected"},
       {"surface with an unknown selection",
        replaced(kScene, "faces: " + kFaces, "surface: {sphere: {radius: 1}}"), 8, "sphere"},
+      {"lms without rate", withLms("  - {type: adamss_lms_volume_springs, stiffness: 10}\n"), 7,
+       "rate"},
+      {"lms negative rate",
+       withLms("  - {type: adamss_lms_volume_springs, stiffness: 10, rate: -1}\n"), 7,
+       "expected a rate >= 0"},
+      {"lms misspelt update",
+       withLms("  - {type: adamss_lms_volume_springs, stiffness: 10, rate: 1, update: strian}\n"),
+       7, "strian"},
+      {"lms zero stiffness",
+       withLms("  - {type: adamss_lms_volume_springs, stiffness: 0, rate: 1}\n"), 7, "stiffness"},
   };
   testutil::expectEachSceneFailsClearly(cases, "malformed_cavity.yaml");
 }
