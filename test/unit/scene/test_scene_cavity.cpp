@@ -70,6 +70,21 @@ TEST(CavityScene, ConstantPressureInflatesTheCavity) {
   EXPECT_LT(growth, 0.30);
 }
 
+// The pressure ramped to 0.5 kPa over 0.2 s on a time curve in kPa, then held.
+TEST(CavityScene, APressureCurveInflatesTheCavityToo) {
+  const std::string text =
+      replaced(sceneText(), "    pressure: 0.5\n",
+               "    pressure: {type: piecewise_linear, times: [0, 0.2], values: [0, 0.5]}\n");
+  Scene scene = loadScene(testutil::writeScene("cavity_curve.yaml", text));
+  const adamss::CavityModel& cavity = cavityOf(scene);
+  EXPECT_TRUE(cavity.needsStepUpdates());
+  EXPECT_EQ(cavity.pressure(), 0.0);
+  const RunSummary run = runScene(scene, {0.5, "", nullptr});
+  ASSERT_TRUE(run.ok) << run.failure;
+  EXPECT_DOUBLE_EQ(cavity.pressure(), 500.0);
+  EXPECT_GT(cavity.volume(scene.system.state.x) / cavity.restVolume() - 1.0, 0.10);
+}
+
 // The top face pushed down 2.5 mm (10 % of the box) over 0.2 s, the bottom fixed.
 std::string squeezeText(const std::string& cavityKeys) {
   std::string text = replaced(sceneText(), "    pressure: 0.5\n    stress_unit: kPa\n", cavityKeys);

@@ -80,7 +80,9 @@ double enclosedVolume(const std::vector<CavityFacet>& facets, const Eigen::Matri
 
 CavityModel::CavityModel(const Eigen::Matrix3Xd& rest, const std::vector<CavityFacet>& facets,
                          const CavityParameters& parameters)
-    : parameters_(parameters) {
+    : pressure_(parameters.pressureFollowsCurve ? parameters.pressureCurve.value(0.0)
+                                                 : parameters.pressure),
+      parameters_(parameters) {
   const int n = static_cast<int>(rest.cols());
   checkClosedSurface(facets, n);
   for (const CavityFacet& facet : facets)
@@ -134,13 +136,18 @@ double CavityModel::volume(const Eigen::VectorXd& x) const {
   return v / 6.0;
 }
 
+void CavityModel::beginStep(double t, const Eigen::VectorXd& /*x*/,
+                            const Eigen::VectorXd& /*v*/) {
+  pressure_ = parameters_.pressureCurve.value(t);
+}
+
 double CavityModel::forceFactor(double volume) const {
-  return parameters_.pressure - parameters_.volumeStiffness * (volume - targetVolume_);
+  return pressure_ - parameters_.volumeStiffness * (volume - targetVolume_);
 }
 
 double CavityModel::energy(const Eigen::VectorXd& x) const {
   const double v = volume(x), dv = v - targetVolume_;
-  return -parameters_.pressure * v + 0.5 * parameters_.volumeStiffness * dv * dv;
+  return -pressure_ * v + 0.5 * parameters_.volumeStiffness * dv * dv;
 }
 
 double CavityModel::addForce(const Eigen::VectorXd& x, const Eigen::VectorXd& /*v*/,
@@ -157,7 +164,7 @@ double CavityModel::addForce(const Eigen::VectorXd& x, const Eigen::VectorXd& /*
     f.segment<3>(3 * t.node[2]) += s * a.cross(b);
   }
   const double dv = v - targetVolume_;
-  return -parameters_.pressure * v + 0.5 * parameters_.volumeStiffness * dv * dv;
+  return -pressure_ * v + 0.5 * parameters_.volumeStiffness * dv * dv;
 }
 
 Eigen::Matrix3Xd CavityModel::volumeGradient(const Eigen::VectorXd& x) const {

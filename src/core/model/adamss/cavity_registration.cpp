@@ -46,7 +46,8 @@ void registerCavityModel(Registry& registry) {
                 "consistently oriented; or use surface"},
       {"surface", "the mesh's boundary triangles with all nodes in a selection {box: {min, max}} "
                   "| {plane: {point, normal, tolerance}} | {nodes: [...]}; or use faces"},
-      {"pressure", "p in stress_unit, > 0 pushes the walls out of the cavity (default 0)"},
+      {"pressure", "p in stress_unit, > 0 pushes the walls out of the cavity (default 0): a "
+                   "number, or a time curve map (constant, piecewise_linear, twitch)"},
       {"stress_unit", "the unit of pressure (Pa, kPa, MPa; Pa by default)"},
       {"volume_stiffness", "k >= 0 in J/m^6 of the penalty k/2 (V - V_target)^2 (default 0)"},
       {"target_volume_ratio", "V_target / V_rest > 0 (default 1)"}};
@@ -59,7 +60,12 @@ void registerCavityModel(Registry& registry) {
         spec.has("faces") ? readFaces(spec["faces"]) : readSurface(spec["surface"], context.mesh);
     adamss::CavityParameters p;
     const double unit = spec.has("stress_unit") ? stressUnit(spec["stress_unit"]) : 1.0;
-    p.pressure = spec.number("pressure", 0.0) * unit;
+    if (spec.has("pressure") && spec["pressure"].node().IsMap()) {
+      p.pressureFollowsCurve = true;
+      p.pressureCurve = readTimeCurve(spec["pressure"], unit);
+    } else {
+      p.pressure = spec.number("pressure", 0.0) * unit;
+    }
     if (spec.has("volume_stiffness")) {
       const YamlEntry k = spec["volume_stiffness"];
       p.volumeStiffness = k.number();
@@ -67,7 +73,7 @@ void registerCavityModel(Registry& registry) {
         k.fail("expected a volume stiffness >= 0, got '" + k.node().Scalar() + "'");
     }
     p.targetVolumeRatio = spec.positive("target_volume_ratio", 1.0);
-    if (p.pressure == 0.0 && p.volumeStiffness == 0.0)
+    if (!p.pressureFollowsCurve && p.pressure == 0.0 && p.volumeStiffness == 0.0)
       spec.fail("expected a non-zero pressure or volume_stiffness (the cavity would do nothing)");
     try {
       return std::make_unique<adamss::CavityModel>(context.mesh.rest, facets, p);

@@ -168,6 +168,30 @@ TEST(AdamssCavity, PressureForcesAreThoseOfEquation2119) {
   EXPECT_LT(relDiff(force(box, flat(cube)), quadForces), 1e-14);
 }
 
+// A pressure on a time curve is the curve's value at the step's start, with the forces of a
+// constant pressure of that value; a repeated start gives the same.
+TEST(AdamssCavity, PressureOnATimeCurveIsItsValueAtTheStepStart) {
+  const Surface s = icosahedron();
+  CavityParameters ramp{0.0, 20.0, 1.0};
+  ramp.pressureFollowsCurve = true;
+  ramp.pressureCurve = TimeCurve::piecewiseLinear({0.0, 0.2}, {0.0, 400.0});
+  CavityModel model(s.nodes, s.facets, ramp);
+  EXPECT_TRUE(model.needsStepUpdates());
+  EXPECT_EQ(model.pressure(), 0.0);
+  const Eigen::VectorXd x = flat(s.nodes) + 0.1 * Eigen::VectorXd::Random(36);
+  const Eigen::VectorXd v = Eigen::VectorXd::Zero(36);
+  model.beginStep(0.05, x, v);
+  EXPECT_DOUBLE_EQ(model.pressure(), 100.0);
+  const CavityModel constant(s.nodes, s.facets, {100.0, 20.0, 1.0});
+  EXPECT_FALSE(constant.needsStepUpdates());
+  EXPECT_LT(relDiff(force(model, x), force(constant, x)), 1e-15);
+  EXPECT_DOUBLE_EQ(model.energy(x), constant.energy(x));
+  model.beginStep(0.3, x, v);
+  EXPECT_DOUBLE_EQ(model.pressure(), 400.0);
+  model.beginStep(0.05, x, v);
+  EXPECT_DOUBLE_EQ(model.pressure(), 100.0);
+}
+
 TEST(AdamssCavity, NoForceAtTheTargetVolumeWithoutPressure) {
   const Surface s = icosahedron();
   const CavityModel model(s.nodes, s.facets, {0.0, 1e3, 1.0});

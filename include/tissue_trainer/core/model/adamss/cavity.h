@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "tissue_trainer/core/model/force_model.h"
+#include "tissue_trainer/core/model/time_curve.h"
 
 namespace tt {
 namespace adamss {
@@ -31,6 +32,10 @@ struct CavityParameters {
   double pressure = 0.0;          // p, Pa (> 0 pushes the walls out of the cavity)
   double volumeStiffness = 0.0;   // k, J/m^6 (0: no volume penalty)
   double targetVolumeRatio = 1.0; // V_target / V_rest
+  // When set, p follows this curve (Pa): beginStep sets p = curve(t) for the step from t, and
+  // the energy, force and stiffness are those of that p.
+  bool pressureFollowsCurve = false;
+  TimeCurve pressureCurve;
 };
 
 // A facet: 3 node indices (triangle) or 4 (quad, nodes in order around it).
@@ -58,6 +63,8 @@ class CavityModel final : public ForceModel {
                   Eigen::VectorXd& f) const override;
   double energy(const Eigen::VectorXd& x) const override;
   bool toleratesInversion() const override { return true; }
+  bool needsStepUpdates() const override { return parameters_.pressureFollowsCurve; }
+  void beginStep(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& v) override;
 
   bool hasStiffness() const override { return true; }
   void addStiffness(const Eigen::VectorXd& x, double scale, const SparsePattern& pattern,
@@ -72,6 +79,8 @@ class CavityModel final : public ForceModel {
   double restVolume() const { return restVolume_; }
   double targetVolume() const { return targetVolume_; }
   const CavityParameters& parameters() const { return parameters_; }
+  // The pressure of the current step (Pa).
+  double pressure() const { return pressure_; }
   // The cavity's nodes, sorted.
   const std::vector<int>& nodes() const { return nodes_; }
 
@@ -91,6 +100,7 @@ class CavityModel final : public ForceModel {
   Eigen::Vector3d origin_;
   double restVolume_ = 0.0;
   double targetVolume_ = 0.0;
+  double pressure_ = 0.0;
   CavityParameters parameters_;
 };
 
