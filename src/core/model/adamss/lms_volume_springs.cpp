@@ -41,19 +41,27 @@ LmsVolumeSpringModel::LmsVolumeSpringModel(const Mesh& mesh,
     restVolume_.push_back(signedVolume(x));
   }
   stiffness_.assign(tets_.size(), parameters_.stiffness);
+  history_.resize(kHistory);
+  for (Checkpoint& c : history_) c.stiffness.resize(tets_.size());
 }
 
 void LmsVolumeSpringModel::beginStep(double t, const Eigen::VectorXd& x,
                                      const Eigen::VectorXd& /*v*/) {
-  // A start seen before: undo its update and everything after it.
-  auto seen = std::find_if(history_.begin(), history_.end(),
-                           [t](const Checkpoint& c) { return c.t == t; });
-  if (seen != history_.end()) {
-    stiffness_ = seen->stiffness;
-    history_.erase(seen + 1, history_.end());
+  // A start seen before: undo its update and forget the later ones.
+  int seen = kept_ - 1;
+  while (seen >= 0 && checkpoint(seen).t != t) --seen;
+  if (seen >= 0) {
+    std::copy(checkpoint(seen).stiffness.begin(), checkpoint(seen).stiffness.end(),
+              stiffness_.begin());
+    kept_ = seen + 1;
   } else {
-    if (history_.size() == static_cast<std::size_t>(kHistory)) history_.pop_front();
-    history_.push_back({t, stiffness_});
+    if (kept_ == kHistory) {
+      oldest_ = (oldest_ + 1) % kHistory;
+      --kept_;
+    }
+    Checkpoint& c = checkpoint(kept_++);
+    c.t = t;
+    std::copy(stiffness_.begin(), stiffness_.end(), c.stiffness.begin());
   }
   for (std::size_t e = 0; e < tets_.size(); ++e) {
     const Matrix34d xe = gatherTet(x, tets_[e]);

@@ -21,7 +21,6 @@
 // stiffness it had before each of its last kHistory updates with the update's time, so a step
 // attempted again from the same start (a rejected step, a frame redone after a rollback)
 // starts from the same stiffness and gets the same update.
-#include <deque>
 #include <vector>
 
 #include "tissue_trainer/core/mesh/mesh.h"
@@ -59,15 +58,20 @@ class LmsVolumeSpringModel final : public ForceModel {
 
  private:
   struct Checkpoint {
-    double t;
+    double t = 0.0;
     std::vector<double> stiffness;  // before the update at t
   };
+  Checkpoint& checkpoint(int age) {  // 0: the oldest kept
+    return history_[(oldest_ + age) % kHistory];
+  }
 
   std::vector<Tet> tets_;
   std::vector<double> restLengthSum_;  // sum_j |xi_j^0|
   std::vector<double> restVolume_;     // V^0
   std::vector<double> stiffness_;      // k_e
-  std::deque<Checkpoint> history_;     // oldest first
+  // A ring of kHistory checkpoints, sized at construction (beginStep allocates nothing).
+  std::vector<Checkpoint> history_;
+  int oldest_ = 0, kept_ = 0;
   LmsVolumeSpringParameters parameters_;
 };
 
