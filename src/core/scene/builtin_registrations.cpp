@@ -16,6 +16,8 @@ void registerAxialSpringModel(Registry&);        // src/core/model/adamss/
 void registerTorsionSpringModel(Registry&);      // src/core/model/adamss/
 void registerAxisFrictionModel(Registry&);       // src/core/model/adamss/
 void registerVolumeSpringModel(Registry&);       // src/core/model/adamss/
+void registerCavityModel(Registry&);             // src/core/model/adamss/
+void registerLmsVolumeSpringModel(Registry&);   // src/core/model/adamss/
 // Material laws (src/core/material/*_registration.cpp).
 void registerStvkLaw(Registry&);
 void registerNeoHookeanLaw(Registry&);
@@ -40,6 +42,8 @@ void registerBuiltIns(Registry& registry) {
   registerTorsionSpringModel(registry);
   registerAxisFrictionModel(registry);
   registerVolumeSpringModel(registry);
+  registerCavityModel(registry);
+  registerLmsVolumeSpringModel(registry);
   registerStvkLaw(registry);
   registerNeoHookeanLaw(registry);
   registerVolumeLaw(registry);

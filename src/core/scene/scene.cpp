@@ -245,8 +245,8 @@ bool readStabilityGuard(const YamlEntry& spec, StabilityGuardParams& p) {
   return spec.boolean("enabled", true);
 }
 
-// The nodes a selection names: {box: {min, max}}, {plane: {point, normal, tolerance}},
-// {nodes: [indices]}. An empty result is an error.
+}  // namespace
+
 std::vector<int> selectNodes(const YamlEntry& spec, const Mesh& mesh) {
   std::vector<int> nodes;
   const int n = mesh.numNodes();
@@ -280,6 +280,8 @@ std::vector<int> selectNodes(const YamlEntry& spec, const Mesh& mesh) {
   if (nodes.empty()) spec.fail("the selection matches no node");
   return nodes;
 }
+
+namespace {
 
 std::uint8_t parseAxes(const YamlEntry& e) {
   const std::string axes = e.text();

@@ -12,6 +12,8 @@
 #include "tissue_trainer/core/model/gravity.h"
 #include "tissue_trainer/core/model/stvk_displacement.h"
 #include "tissue_trainer/core/model/tensor_mass.h"
+#include "tissue_trainer/core/model/adamss/cavity.h"
+#include "tissue_trainer/core/model/adamss/lms_volume_springs.h"
 
 // malloc is interposed (operator new and Eigen's aligned_malloc both end in it) and forwards
 // to glibc; memory is still released by glibc's free. Not under AddressSanitizer, which owns
@@ -80,6 +82,38 @@ TEST(ModelAllocation, EvaluationLoopsDoNotAllocate) {
     EXPECT_EQ(allocationsDuring([&] { model->addStiffness(x, 0.5, pattern, K); }), 0)
         << model->name();
   }
+}
+
+// The Adamss cavity (over the box's boundary) and the adaptive volume springs: their
+// evaluations and the adaptive springs' step update allocate nothing. The cavity's assembled
+// stiffness with a volume penalty gathers dV/dx once per call and is left out.
+TEST(ModelAllocation, CavityAndAdaptiveSpringsDoNotAllocate) {
+#if !TT_COUNT_MALLOC
+  GTEST_SKIP() << "malloc is not countable in this build";
+#endif
+  std::mt19937 rng(52);
+  Mesh m = boxMesh(3, 3, 2, 0.01, rng);
+  m.surface = extractSurface(m);
+  std::vector<adamss::CavityFacet> facets;
+  for (const Triangle& t : m.surface) facets.push_back({t[0], t[1], t[2]});
+  const adamss::CavityModel cavity(m.rest, facets, {100.0, 1e9, 1.0});
+  const adamss::CavityModel pressureOnly(m.rest, facets, {100.0, 0.0, 1.0});
+  adamss::LmsVolumeSpringModel lms(m, {10.0, 1e9, false, true});
+  const Eigen::VectorXd x = perturbed(m, 0.001, rng), v = Eigen::VectorXd::Zero(x.size());
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(x.size()), out = f;
+  const SparsePattern pattern(m.numNodes(), m.tets, cavity.couplings());
+  SparseMatrix K = pattern.zeroMatrix();
+  for (const adamss::CavityModel* model : {&cavity, &pressureOnly}) {
+    EXPECT_EQ(allocationsDuring([&] { model->addForce(x, v, f); }), 0);
+    EXPECT_EQ(allocationsDuring([&] { model->energy(x); }), 0);
+    EXPECT_EQ(allocationsDuring([&] { model->addStiffnessTimes(x, x, 0.5, out); }), 0);
+  }
+  EXPECT_EQ(allocationsDuring([&] { pressureOnly.addStiffness(x, 0.5, pattern, K); }), 0);
+  for (int n = 0; n < 70; ++n)  // around the ring of checkpoints
+    EXPECT_EQ(allocationsDuring([&] { lms.beginStep(1e-3 * n, x, v); }), 0) << n;
+  EXPECT_EQ(allocationsDuring([&] { lms.beginStep(1e-3 * 60, x, v); }), 0);
+  EXPECT_EQ(allocationsDuring([&] { lms.addForce(x, v, f); }), 0);
+  EXPECT_EQ(allocationsDuring([&] { lms.energy(x); }), 0);
 }
 
 // After the first frame sized its buffers, a frame of 40 steps allocates what a frame of one

@@ -56,4 +56,9 @@ struct Scene {
 // Throws InputError ("FILE:LINE: key.path: what was expected") on any problem.
 Scene loadScene(const std::string& path);
 
+class YamlEntry;
+// The nodes a selection names: {box: {min, max}}, {plane: {point, normal, tolerance}},
+// {nodes: [indices]} (rest positions). An empty result is an error at the entry.
+std::vector<int> selectNodes(const YamlEntry& spec, const Mesh& mesh);
+
 }  // namespace tt
