@@ -141,7 +141,8 @@ def summary(rows, critical, extremes, maps):
     lines += [f"![{m}]({m})" for m in maps]
     if critical:
         lines += ["", "## Critical step", "",
-                  "h_c = L/c (seed 001 Eq 2.150; L the shortest edge, c = sqrt((lambda + 2 mu) / "
+                  "h_c = L/c (\"Adamss: Advanced Anisotropic Mass-Spring System\", Eq. 2.150; "
+                  "L the shortest edge, c = sqrt((lambda + 2 mu) / "
                   "rho)) against 2/omega_max of the assembled stiffness and the largest stable "
                   "step found by bisection (300-step runs).", "",
                   "| model | E (Pa) | nu | h_c = L/c (s) | 2/omega_max (s) | symplectic Euler (s) | "

@@ -1,14 +1,17 @@
-// Seed 000 Fig 4: a small block, bottom nodes fixed, the top-left corner node dragged far along
-// a prescribed path, held, released, and left to settle with damping. Does the block return
-// to rest? Seed 000 shows the displacement formulation (Eq 13) staying deformed and the
-// edge-length formulation returning. ERRATA typo 1 says the printed Eq 5 sign alone can
-// explain it, so Eq 13 is run with both alpha signs beside the edge-length and linear models.
+// Fig 4 of Jeffrey, "A non-linear anisotropic Finite Element Method for surgical simulation": a
+// small block, bottom nodes fixed, the top-left corner node dragged far along a prescribed
+// path, held, released, and left to settle with damping. Does the block return to rest?
+// Jeffrey shows the displacement formulation (Eq 13) staying deformed and the edge-length
+// formulation returning. The printed sign of Eq 5's alpha is wrong, and with it Eq 13 computes
+// the force of the point-reflected configuration, with spurious rest states: that alone can
+// explain the figure, so Eq 13 is run with both alpha signs beside the edge-length and linear
+// models.
 //
-// "3 x 3 x 3 block": the seed calls its 64-node grid of Appendix E a "4 x 4 x 4 grid", so it
+// "3 x 3 x 3 block": Jeffrey's Appendix E calls its 64-node grid a "4 x 4 x 4 grid", so it
 // counts nodes; the main table is the 3 x 3 x 3-node block (2 x 2 x 2 cells, 40 tets). The
 // 3 x 3 x 3-cell reading (4 x 4 x 4 nodes, 135 tets) is run too.
-// Material: seed 000's muscle (E_L 150 kPa, nu 0.4 along the fibre = x; E_T 20 kPa, nu 0.4),
-// density 1000, cell 1 cm. Integrator: the seed's Newtonian scheme (Eq 11) at a fraction of
+// Material: Jeffrey's muscle (E_L 150 kPa, nu 0.4 along the fibre = x; E_T 20 kPa, nu 0.4),
+// density 1000, cell 1 cm. Integrator: Jeffrey's Newtonian scheme (Eq 11) at a fraction of
 // its stability limit at rest (halved again if a run blows up), mass-proportional damping.
 //   bench_fig4_metastability [pull in cells=2] [settle seconds=2] [step fraction=0.25]
 // (step fraction: the Newtonian step as a fraction of 2 / omega_max at rest)
@@ -217,7 +220,7 @@ int main(int argc, char** argv) {
   const double pullCells = argc > 1 ? std::atof(argv[1]) : 2.0;
   const double settleSeconds = argc > 2 ? std::atof(argv[2]) : 2.0;
   if (argc > 3) gStepFraction = std::atof(argv[3]);
-  std::printf("bench_fig4_metastability %g %g %g  (seed 000 Fig 4; residuals in cells of %.0f mm "
+  std::printf("bench_fig4_metastability %g %g %g  (Jeffrey Fig 4; residuals in cells of %.0f mm "
               "after settling; min curv = smallest eigenvalue of -K on the free DOFs over the "
               "largest: >= 0 at a stable rest state; inv = inverted tets at the end)\n",
               pullCells, settleSeconds, gStepFraction, kCell * 1e3);

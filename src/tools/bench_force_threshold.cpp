@@ -1,5 +1,6 @@
-// The cost of seed 000's speed trick (section 3): nodes whose net force is below a threshold
-// are not propagated by the Newtonian scheme. On the muscle demo (muscle_scene.h, edge_length
+// The cost of the speed trick of Jeffrey, "A non-linear anisotropic Finite Element Method for
+// surgical simulation", Sec. 3: nodes whose net force is below a threshold are not propagated
+// by the Newtonian scheme. On the muscle demo (muscle_scene.h, edge_length
 // fast, Newtonian at half its stability limit at rest) the thresholds are fractions of the largest
 // net nodal force at the peak of the pull; the error is the largest node distance to the
 // threshold-0 run with the same integrator and step (so it is the trick's own error), at the

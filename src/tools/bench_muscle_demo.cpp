@@ -1,5 +1,6 @@
-// Seed 000 section 3's demo: the anisotropic spindle muscle (861 nodes, 2400 tets here; the
-// seed's has 2552), E_L 150 kPa / nu 0.4 along the fibres (which follow the spindle), E_T
+// The demo of Jeffrey, "A non-linear anisotropic Finite Element Method for surgical
+// simulation", Sec. 3: the anisotropic spindle muscle (861 nodes, 2400 tets here; Jeffrey's
+// has 2552), E_L 150 kPa / nu 0.4 along the fibres (which follow the spindle), E_T
 // 20 kPa / nu 0.4 across, density 1060, both tendon end layers fixed, mass-proportional
 // damping. A node on the belly surface is pulled 1 cm sideways (radially out) over 0.1 s and
 // back over the next 0.1 s. For each force model and integrator: the simulation rate

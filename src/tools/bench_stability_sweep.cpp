@@ -17,8 +17,9 @@
 //    -> stability_sweep.csv
 // 2. The explicit limit: for each material the largest step at which symplectic Euler and the
 //    Newtonian scheme stay stable (bisection in log h over 300-step runs), beside the
-//    critical step h_c = L / c of seed 001 Eq 2.150 (L the shortest edge, c the dilatational
-//    wave speed sqrt((lambda + 2 mu) / rho)) and 2 / omega_max of the assembled system.
+//    critical step h_c = L / c ("Adamss: Advanced Anisotropic Mass-Spring System", Eq. 2.150;
+//    L the shortest edge, c the dilatational wave speed sqrt((lambda + 2 mu) / rho)) and
+//    2 / omega_max of the assembled system.
 //    -> critical_step.csv
 // 3. Extreme cases at E = 10 kPa, nu = 0.45: 80 % compression, a forced inversion, a
 //    180-degree twist, a 20 m/s impact, sliver elements (the block flattened 50:1).
@@ -249,7 +250,8 @@ Grid grid(bool quick) {
 
 // Radau IIA at small fixed steps is the costly part of the grid; it runs the two correct
 // energies on their fast paths only: edge_length_literal and stvk_displacement evaluate the
-// same energy as edge_length (seed ERRATA) by slower formulas, and the printed Eq 5 sign
+// same StVK polynomial as edge_length by slower formulas, and the printed sign of Eq 5 of
+// Jeffrey, "A non-linear anisotropic Finite Element Method for surgical simulation"
 // (stvk_displacement_paper_literal) is the slowest path of all.
 bool inGrid(const std::string& integrator, const std::string& model) {
   return integrator != "radau_iia_fixed" || model == "edge_length" || model == "tensor_mass";

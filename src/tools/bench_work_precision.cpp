@@ -77,7 +77,8 @@ std::vector<IntegratorSpec> explicitSweep(const Problem& p, bool quick) {
   return specs;
 }
 
-// Backward Euler, linearised (the seed's) and with full Newton: steps longer than the sample
+// Backward Euler, linearised ("Adamss: Advanced Anisotropic Mass-Spring System",
+// Eqs. 2.142-2.148) and with full Newton: steps longer than the sample
 // interval are one step per frame, shorter ones equal substeps of it.
 std::vector<IntegratorSpec> backwardEulerSweep(const Problem& p, bool quick) {
   std::vector<double> steps = p.implicitSteps;

@@ -1,8 +1,9 @@
 #pragma once
-// The spindle-muscle scene shared by bench_muscle_demo and bench_force_threshold (seed 000
-// section 3): 861 nodes, 2400 tets, E_L 150 kPa / nu 0.4 along the fibres, E_T 20 kPa /
-// nu 0.4 across, density 1060, tendon end layers fixed, mass-proportional damping 10 / s; the
-// belly node on the +x side is pulled 1 cm along +x over 0.1 s and back over 0.1 s.
+// The spindle-muscle scene shared by bench_muscle_demo and bench_force_threshold (Jeffrey, "A
+// non-linear anisotropic Finite Element Method for surgical simulation", Sec. 3): 861 nodes,
+// 2400 tets, E_L 150 kPa / nu 0.4 along the fibres, E_T 20 kPa / nu 0.4 across, density 1060,
+// tendon end layers fixed, mass-proportional damping 10 / s; the belly node on the +x side is
+// pulled 1 cm along +x over 0.1 s and back over 0.1 s.
 #include <Eigen/Core>
 #include <cmath>
 #include <functional>

@@ -309,8 +309,10 @@ class AgainstReference : public Problem {
     return {distance(run, references_.at("physics")) / scale_, distance(run, own) / scale_, ""};
   }
 
-  // The models that evaluate the StVK polynomial itself (ERRATA item 4) share the edge_length
-  // reference; the linear model and the printed Eq 5 sign get references of their own.
+  // The models that evaluate the StVK force polynomial itself (Eq 31 and, with the corrected
+  // sign of alpha, Eq 13 of Jeffrey, "A non-linear anisotropic Finite Element Method for
+  // surgical simulation") share the edge_length reference; the linear model and the printed
+  // Eq 5 sign get references of their own.
   static bool sameAsStvk(const std::string& model) {
     return model == "edge_length" || model == "edge_length_literal" || model == "stvk_displacement";
   }

@@ -1,6 +1,7 @@
-// The Newtonian integrator's force threshold (seed 000 section 3): off by default; when on,
-// exactly the free nodes whose net force m a = F - gamma v is below the threshold at the
-// start of a step keep their position (and get zero velocity); the others are propagated.
+// The Newtonian integrator's force threshold (Jeffrey, "A non-linear anisotropic Finite
+// Element Method for surgical simulation", Sec. 3): off by default; when on, exactly the free
+// nodes whose net force m a = F - gamma v is below the threshold at the start of a step keep
+// their position (and get zero velocity); the others are propagated.
 #include <gtest/gtest.h>
 
 #include <filesystem>

@@ -107,10 +107,11 @@ double slope(const std::vector<double>& x, const std::vector<double>& y) {
 
 // ---- Constants ---------------------------------------------------------------------------
 
-TEST(RadauTableau, MatchesTheSeedTableauAndHasOrderFive) {
+TEST(RadauTableau, MatchesThePrintedTableauAndHasOrderFive) {
   const RadauTableau& r = RadauTableau::get();
   const double s6 = std::sqrt(6.0);
-  Eigen::Matrix3d printed;  // seed 000 Appendix D
+  // Jeffrey, "A non-linear anisotropic Finite Element Method for surgical simulation", App. D.
+  Eigen::Matrix3d printed;
   printed << (88 - 7 * s6) / 360, (296 - 169 * s6) / 1800, (-2 + 3 * s6) / 225,
       (296 + 169 * s6) / 1800, (88 + 7 * s6) / 360, (-2 - 3 * s6) / 225,
       (16 - s6) / 36, (16 + s6) / 36, 1.0 / 9;
@@ -143,11 +144,11 @@ TEST(RadauTableau, TransformationBlockDiagonalisesTheInverseCoefficientMatrix) {
   EXPECT_NEAR(r.gamma, 3.6378342527444957, 1e-12);
 }
 
-TEST(RadauTableau, ErrorWeightsAreTheSeedsAndGiveAnOrderThreeEmbeddedMethod) {
+TEST(RadauTableau, ErrorWeightsAreThePrintedOnesAndGiveAnOrderThreeEmbeddedMethod) {
   const RadauTableau& r = RadauTableau::get();
   const double s6 = std::sqrt(6.0);
-  const Eigen::Vector3d seed = Eigen::Vector3d(-13 - 7 * s6, -13 + 7 * s6, -1) / (3 * r.gamma);
-  EXPECT_LT((r.errorWeights - seed).norm(), 1e-12);
+  const Eigen::Vector3d printed = Eigen::Vector3d(-13 - 7 * s6, -13 + 7 * s6, -1) / (3 * r.gamma);
+  EXPECT_LT((r.errorWeights - printed).norm(), 1e-12);
   // y_hat - y = h (gamma0 F(y0) + sum_i delta_i F_i) with delta = A^T e. For y' = t^(k-1) the
   // difference vanishes for k = 1..3 (order 3) and not for k = 4.
   const Eigen::Vector3d delta = r.A.transpose() * r.errorWeights;

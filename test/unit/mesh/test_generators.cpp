@@ -63,8 +63,9 @@ ConformityReport conformity(const Mesh& mesh, const Eigen::Vector3d& size) {
 const TetSplit kAllSplits[] = {TetSplit::kFive, TetSplit::kFiveMirrored, TetSplit::kSix,
                                TetSplit::kSixMirrored};
 
-TEST(BoxGrid, FourCubedFiveSplitHasSeedCounts) {
-  // Seed 000, Appendix E: a 4 x 4 x 4 grid of 64 nodes and 135 tetrahedra.
+TEST(BoxGrid, FourCubedFiveSplitHas64NodesAnd135Tets) {
+  // Jeffrey, "A non-linear anisotropic Finite Element Method for surgical simulation",
+  // Appendix E: a 4 x 4 x 4 grid of 64 nodes and 135 tetrahedra.
   const Mesh m = boxGrid(4, 4, 4, Eigen::Vector3d::Ones(), TetSplit::kFiveMirrored);
   EXPECT_EQ(m.numNodes(), 64);
   EXPECT_EQ(m.numTets(), 135);
@@ -76,7 +77,7 @@ TEST(BoxGrid, FourCubedFiveSplitHasSeedCounts) {
   EXPECT_EQ(six.numTets(), 162);
 }
 
-TEST(BoxGrid, TetsArePositiveAndFillEachHexWithTheSeedVolumes) {
+TEST(BoxGrid, TetsArePositiveAndFillEachHexWithTheAdamssVolumes) {
   const Eigen::Vector3d size(0.3, 0.2, 0.5);
   for (TetSplit split : kAllSplits) {
     const Mesh m = boxGrid(4, 3, 6, size, split);
@@ -96,7 +97,8 @@ TEST(BoxGrid, TetsArePositiveAndFillEachHexWithTheSeedVolumes) {
       }
       std::sort(volumes.begin(), volumes.end());
       EXPECT_GT(volumes.front(), 0.0);
-      // Seed 001 Figs 2.7-2.8: with five, one tet is twice the others; with six, all equal.
+      // "Adamss: Advanced Anisotropic Mass-Spring System", Figs. 2.7-2.8: with five, one tet is
+      // twice the others; with six, all equal.
       for (int t = 0; t < perHex; ++t) {
         const double expected = (perHex == 5 && t == 4) ? hexVolume / 3 : hexVolume / 6;
         EXPECT_NEAR(volumes[t], expected, 1e-15);
@@ -182,10 +184,10 @@ TEST(CantileverBeam, FixedEndTaggedAndSectionCentred) {
 
 // ---- spindle muscle --------------------------------------------------------------------
 
-TEST(SpindleMuscle, DefaultCountsAreNearSeedDemo) {
+TEST(SpindleMuscle, DefaultCountsAreNearJeffreysDemo) {
   const Mesh m = spindleMuscle();
   std::printf("spindle muscle: %d nodes, %d tets, %zu surface triangles "
-              "(seed 000 demo: 861 nodes, 2552 tets)\n",
+              "(Jeffrey's demo: 861 nodes, 2552 tets)\n",
               m.numNodes(), m.numTets(), m.surface.size());
   EXPECT_EQ(m.numNodes(), 861);
   EXPECT_EQ(m.numTets(), 2400);

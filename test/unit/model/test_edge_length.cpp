@@ -1,5 +1,7 @@
-// Seed 000 section 2 (Eqs 20, 29, 31 with the ERRATA): the edge-length StVK tetrahedron,
-// its fast (F, E, S) and literal (Eq 31) paths and their shared analytic stiffness.
+// Jeffrey, "A non-linear anisotropic Finite Element Method for surgical simulation", Sec. 2
+// (Eqs 20, 29, 31; the printed energy is a density and the printed force its positive
+// gradient): the edge-length StVK tetrahedron, its fast (F, E, S) and literal (Eq 31) paths
+// and their shared analytic stiffness.
 #include <gtest/gtest.h>
 
 #include "../model_test_util.h"

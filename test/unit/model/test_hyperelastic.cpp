@@ -260,15 +260,15 @@ TYPED_TEST(HyperelasticConformance, HexesAndTheirTetSplitsConvergeUnderRefinemen
 }
 
 // The generic model with the stvk law is the edge_length model's energy: the same forces.
-TEST(Hyperelastic, StvkLawOnTetsGivesTheSeed000Forces) {
+TEST(Hyperelastic, StvkLawOnTetsGivesTheEdgeLengthForces) {
   std::mt19937 rng(28);
   const Mesh mesh = boxMesh(3, 2, 2, 0.01, rng);
   const std::vector<Material> materials = testMaterials();
   const auto generic = makeElasticModel("hyperelastic_stvk", mesh, materials);
-  const auto seed000 = makeElasticModel("edge_length", mesh, materials);
+  const auto edgeLength = makeElasticModel("edge_length", mesh, materials);
   const Eigen::VectorXd x = perturbed(mesh, 1e-3, rng);
-  EXPECT_LT(relDiff(force(*generic, x), force(*seed000, x)), 1e-10);
-  EXPECT_NEAR(generic->energy(x), seed000->energy(x), 1e-10 * seed000->energy(x));
+  EXPECT_LT(relDiff(force(*generic, x), force(*edgeLength, x)), 1e-10);
+  EXPECT_NEAR(generic->energy(x), edgeLength->energy(x), 1e-10 * edgeLength->energy(x));
 }
 
 // Inversion handling: a flattened-through tet keeps finite forces that undo the inversion;

@@ -1,5 +1,6 @@
-// Seed 000 Eqs 13-18 (displacement-based StVK, anisotropic B, C, D) in both readings of the
-// sign of alpha (Eq 5 and ERRATA typo 1).
+// Jeffrey, "A non-linear anisotropic Finite Element Method for surgical simulation",
+// Eqs 13-18 (displacement-based StVK, anisotropic B, C, D) in both readings of the sign of
+// alpha: Eq 5 as printed, and the corrected sign.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -82,9 +83,9 @@ TEST(StvkDisplacement, PrintedSignHasSpuriousRestStates) {
   EXPECT_GT(force(literal, rotated).lpNorm<Eigen::Infinity>(), 1e-3 * stretchedForce);
 }
 
-// ERRATA item 4: the displacement formulation is the StVK polynomial but works with
-// U = x - rest, so a large rigid translation costs digits. Measured and printed; the
-// reference is the kernel, whose F comes from exact edge differences.
+// With the corrected sign of alpha the displacement formulation is the StVK polynomial but
+// works with U = x - rest, so a large rigid translation costs digits. Measured and printed;
+// the reference is the kernel, whose F comes from exact edge differences.
 TEST(StvkDisplacement, DigitsLostUnderLargeTranslation) {
   std::mt19937 rng(15);
   Mesh m = boxMesh(2, 2, 2, 0.01, rng);

@@ -1,4 +1,5 @@
-// Seed 000 Eqs 5-9 with the anisotropic B of Eq 16: the linear tensor-mass tetrahedron.
+// Jeffrey, "A non-linear anisotropic Finite Element Method for surgical simulation", Eqs 5-9
+// with the anisotropic B of Eq 16: the linear tensor-mass tetrahedron.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -12,6 +13,7 @@ namespace {
 
 using namespace testutil;
 
+// Sec. 1.3 calls B_jk symmetric; for j != k it is not (unless lambda = mu): B_jk = B_kj^T.
 TEST(TensorMass, BlocksAreTransposedPairsNotSymmetric) {
   std::mt19937 rng(21);
   Mesh m = randomTet(rng);
@@ -21,7 +23,7 @@ TEST(TensorMass, BlocksAreTransposedPairsNotSymmetric) {
     for (int k = 0; k < 4; ++k) {
       const Eigen::Matrix3d Bjk = tensorMassB(t, j, k), Bkj = tensorMassB(t, k, j);
       EXPECT_LT((Bjk - Bkj.transpose()).norm(), 1e-12 * Bjk.norm());
-      if (j != k) EXPECT_GT((Bjk - Bjk.transpose()).norm(), 1e-3 * Bjk.norm());  // ERRATA typo 2
+      if (j != k) EXPECT_GT((Bjk - Bjk.transpose()).norm(), 1e-3 * Bjk.norm());
     }
 }
 
@@ -63,7 +65,8 @@ TEST(TensorMass, RestAndTranslationAreForceFree) {
   EXPECT_LT(force(model, moved).lpNorm<Eigen::Infinity>(), 1e-9 * scale);
 }
 
-// ERRATA item 5: a pure 10 degree rotation gives ghost forces comparable to a 10% stretch.
+// Not rotation invariant: a pure 10 degree rotation gives ghost forces comparable to a 10 %
+// stretch.
 TEST(TensorMass, GhostForceUnderRotation) {
   std::mt19937 rng(25);
   Mesh m = boxMesh(3, 3, 3, 0.01, rng, 0.0);

@@ -1,10 +1,11 @@
-// Seed 000 Fig 4, qualitatively: a 3 x 3 x 3-node block (bottom fixed, seed 000's muscle
-// material) whose top corner node is dragged two cells, held, released and left to settle
-// under damping with the Newtonian scheme. Eq 13 with the correct alpha (and the edge-length
-// form, the same polynomial) returns to rest; with the printed Eq 5 sign it stays deformed
-// in a zero-energy state. The printed sign runs the StVK dynamics of the point-reflected
-// configuration y = 2 rest - x, so its run with a pull d is the mirror image of the correct
-// run with the pull -d: the correct model also has inverted stable states (bench_fig4).
+// Fig 4 of Jeffrey, "A non-linear anisotropic Finite Element Method for surgical simulation",
+// qualitatively: a 3 x 3 x 3-node block (bottom fixed, Jeffrey's muscle material) whose top
+// corner node is dragged two cells, held, released and left to settle under damping with the
+// Newtonian scheme. Eq 13 with the correct alpha (and the edge-length form, the same
+// polynomial) returns to rest; with the printed Eq 5 sign it stays deformed in a zero-energy
+// state. The printed sign runs the StVK dynamics of the point-reflected configuration
+// y = 2 rest - x, so its run with a pull d is the mirror image of the correct run with the
+// pull -d: the correct model also has inverted stable states (bench_fig4).
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -1,6 +1,7 @@
 #pragma once
-// The contact model the simulation publishes for the haptic loop (seed 000 section 3, after
-// Picinbono 2002): the force f0 on the tool at tool-tip position x0 and the contact stiffness
+// The contact model the simulation publishes for the haptic loop (Jeffrey, "A non-linear
+// anisotropic Finite Element Method for surgical simulation", Sec. 3, after Picinbono 2002):
+// the force f0 on the tool at tool-tip position x0 and the contact stiffness
 // K = -df/dx there, so that near x0 the force is the linear field
 //     f(x) = f0 - K (x - x0).
 // Sign check: a spring pulling the tool back to its rest point r, f(x) = -k (x - r), has

@@ -1,8 +1,9 @@
 #pragma once
-// Linearised implicit (backward) Euler, seed 001 Eqs 2.142-2.148: one Newton step per time
-// step on v+ = v + h M^-1 f(x+, v+), x+ = x + h v+, with f linearised at (x, v):
+// Linearised implicit (backward) Euler, "Adamss: Advanced Anisotropic Mass-Spring System",
+// Eqs. 2.142-2.148: one Newton step per time step on v+ = v + h M^-1 f(x+, v+),
+// x+ = x + h v+, with f linearised at (x, v):
 //   (M - h D - h^2 K) dv = h (f + h K v),   D = df/dv = -diag(c),   K = df/dx
-// (the seed's A and b multiplied by M; its dF/dt term is neglected as in the seed, and the
+// (the chapter's A and b multiplied by M; its dF/dt term is neglected as there, and the
 // external force is taken at the start of the step). K comes from the models' analytic
 // stiffness. Constrained DOFs move to their prescribed position at t + h exactly; the
 // coupling of that motion into the free DOFs goes through K.
@@ -48,7 +49,7 @@ struct BackwardEulerParams {
   int substeps = 1;               // equal substeps per frame (read when constructed)
   double linearTolerance = 1e-8;  // relative residual |b - A dv| / |b|
   int linearMaxIterations = 500;
-  int newtonIterations = 1;       // 1: the seed's linearised step; > 1: full Newton
+  int newtonIterations = 1;       // 1: the chapter's linearised step; > 1: full Newton
   double newtonTolerance = 1e-6;  // relative residual of the implicit equations
   bool requireConvergence = false;  // Newton not converged: restore the frame, ok = false
   bool warmStart = true;

@@ -1,8 +1,9 @@
 #pragma once
-// The variable-step explicit "Newtonian" scheme of seed 000 (Eq 10-11, Appendix A): a
-// two-step central-difference method on positions for m x'' = F - gamma x'.
+// The variable-step explicit "Newtonian" scheme of Jeffrey, "A non-linear anisotropic Finite
+// Element Method for surgical simulation" (Eqs 10-11, Appendix A): a two-step
+// central-difference method on positions for m x'' = F - gamma x'.
 //
-// With h_prev the previous step and h = eta * h_prev the new one (seed's Delta t and
+// With h_prev the previous step and h = eta * h_prev the new one (Jeffrey's Delta t and
 // eta Delta t), Eq 11 gives, per DOF,
 //   (2m/(eta(eta+1)h_prev^2) + gamma/(eta(eta+1)h_prev)) x+ = F
 //       + (2m/(eta h_prev^2) - gamma(eta-1)/(eta h_prev)) x
@@ -24,7 +25,7 @@
 // backward difference through the last three positions (exact for quadratics, any steps).
 // Stable for undamped linear problems when h < 2 / omega_max.
 //
-// Force threshold (seed 000 section 3, off by default): a free node whose net force
+// Force threshold (Jeffrey's report, Sec. 3; off by default): a free node whose net force
 // |F_i - gamma_i v_i| (Eq 10's right-hand side, i.e. m a) is below forceThreshold at the start
 // of a substep is not propagated: it keeps its position and its velocity is set to zero for
 // that step. It saves only the per-node update here (the force is still evaluated for every

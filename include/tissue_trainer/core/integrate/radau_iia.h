@@ -1,6 +1,7 @@
 #pragma once
-// The 3-stage, order-5 Radau IIA implicit Runge-Kutta method with adaptive step size (seed 000
-// Appendix D; Hairer & Wanner, Solving ODEs II, IV.8). The second-order system
+// The 3-stage, order-5 Radau IIA implicit Runge-Kutta method with adaptive step size (Jeffrey,
+// "A non-linear anisotropic Finite Element Method for surgical simulation", Appendix D; Hairer
+// & Wanner, Solving ODEs II, IV.8). The second-order system
 // p' = v, v' = M^-1 f(p, v) is integrated as the first-order system y' = F(y), y = (p, v).
 // Each step solves the stage equations by simplified Newton iterations, transformed with the
 // eigen-decomposition of A^-1 into one real and one complex linear system (D.15-D.17). Both

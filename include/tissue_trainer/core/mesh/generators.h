@@ -1,7 +1,8 @@
 #pragma once
-// Mesh generators: structured box grids split into tets (seed 001 section 2.3.1.3), a
-// cantilever beam, a fusiform (spindle) muscle like seed 000's demo, all positively oriented
-// with the surface extracted and defaults filled.
+// Mesh generators: structured box grids split into tets ("Adamss: Advanced Anisotropic
+// Mass-Spring System", Sec. 2.3.1.3), a cantilever beam, a fusiform (spindle) muscle like the
+// demo of Jeffrey, "A non-linear anisotropic Finite Element Method for surgical simulation",
+// Sec. 3, all positively oriented with the surface extracted and defaults filled.
 #include "tissue_trainer/core/mesh/mesh.h"
 
 namespace tt {
@@ -33,7 +34,7 @@ Mesh cantileverBeam(double length, double width, int cellsAlong, int cellsAcross
 // `segments` nodes (the same angles on every layer); each wedge between two layers is split
 // into 3 tets with the lowest-index diagonal rule, so neighbouring wedges share faces.
 // Nodes: layers * (segments + 1); tets: 3 * segments * (layers - 1).
-// The defaults give 861 nodes and 2400 tets (seed 000's muscle demo has 861 and 2552).
+// The defaults give 861 nodes and 2400 tets (Jeffrey's muscle demo has 861 and 2552).
 // Fibre frame per tet: column 0 is the unit tangent of the scaled meridian through the tet
 // centroid (the fibres follow the spindle shape), column 2 the circumferential direction,
 // column 1 = column 2 x column 0. The nodes of both tendon end layers are tagged kFixedAll.

@@ -13,8 +13,8 @@ using Tet = std::array<int, 4>;
 using Hex = std::array<int, 8>;
 using Triangle = std::array<int, 3>;
 
-// Per-node tags (bit flags): fixed per axis as in seed 001 section 2.6, and controlled nodes
-// whose position follows a prescribed path.
+// Per-node tags (bit flags): fixed per axis as in "Adamss: Advanced Anisotropic Mass-Spring
+// System", Sec. 2.6, and controlled nodes whose position follows a prescribed path.
 enum NodeTag : std::uint8_t {
   kFixedX = 1u << 0,
   kFixedY = 1u << 1,

@@ -1,12 +1,14 @@
 #pragma once
-// Seed 000 section 2: the translation-invariant, transversely isotropic St Venant-Kirchhoff
-// tetrahedron written with edge lengths (Eqs 29 and 31, with the ERRATA corrections).
+// Jeffrey, "A non-linear anisotropic Finite Element Method for surgical simulation", Sec. 2:
+// the translation-invariant, transversely isotropic St Venant-Kirchhoff tetrahedron written
+// with edge lengths (Eqs 29 and 31; Eq 24's lambda^T, mu^T read as lambda^L, mu^L, and V, A_j,
+// K_jk taken at rest).
 // Two evaluation paths of the same polynomial:
 //   kFast    : F, E, S (stvk_kernel.h), the cheapest way to evaluate it;
 //   kLiteral : the packed single-sum force of Eq 31 and the energy of Eqs 28-29, from rest
 //              K_jk (Eq 20), face areas A_j, alpha_j = g_j and the deformed squared edge lengths.
-// Both give energy V0 W and physical force -V0 F_p (ERRATA items 1-2) and share the analytic
-// stiffness.
+// Both give energy V0 W and physical force -V0 F_p (the printed W is an energy density and
+// the printed F_p its positive gradient) and share the analytic stiffness.
 #include <array>
 #include <string>
 #include <vector>

@@ -13,12 +13,13 @@ struct Material {
 
   // Lame constants from Young's modulus E (Pa) and Poisson ratio nu in (-1, 0.5).
   static Material isotropic(double E, double nu, double density);
-  // Transverse (E_T, nu_T) and longitudinal (E_L, nu_L) values, as in seed 000's muscle.
+  // Transverse (E_T, nu_T) and longitudinal (E_L, nu_L) values, as in the muscle of Jeffrey,
+  // "A non-linear anisotropic Finite Element Method for surgical simulation".
   static Material transverselyIsotropic(double ET, double nuT, double EL, double nuL,
                                         double density);
 
-  // Coefficient of the fibre term (a0^T E a0)^2 in the StVK energy density (ERRATA):
-  // c = (lambdaL - lambda)/2 + (muL - mu).
+  // Coefficient of the fibre term (a0^T E a0)^2 in the StVK energy density (Jeffrey's Eq 24,
+  // whose printed lambda^T, mu^T must read lambda^L, mu^L): c = (lambdaL - lambda)/2 + (muL - mu).
   double fibreCoefficient() const { return 0.5 * (lambdaL - lambda) + (muL - mu); }
 };
 

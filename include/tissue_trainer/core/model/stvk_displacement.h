@@ -1,10 +1,12 @@
 #pragma once
-// Seed 000 sections 1.2-1.3: Picinbono's displacement-based non-linear, transversely isotropic
-// tetrahedron (Eq 13 with the anisotropic tensors B, C, D of Eqs 16-18), evaluated from the
-// nodal displacements U = x - rest as sums over node indices, as the paper does.
-//   AlphaSign::kCorrect      : alpha_j = +g_j (ERRATA typo 1). Then Eq 13 is the StVK force
-//                              polynomial itself (ERRATA item 4); digits are lost only under
-//                              large rigid translation, because it works with displacements.
+// Jeffrey, "A non-linear anisotropic Finite Element Method for surgical simulation",
+// Secs. 1.2-1.3: Picinbono's displacement-based non-linear, transversely isotropic tetrahedron
+// (Eq 13 with the anisotropic tensors B, C, D of Eqs 16-18), evaluated from the nodal
+// displacements U = x - rest as sums over node indices, as the paper does.
+//   AlphaSign::kCorrect      : alpha_j = +g_j (the printed Eq 5 has the wrong sign). Then
+//                              Eq 13 is the StVK force polynomial itself; digits are lost only
+//                              under large rigid translation, because it works with
+//                              displacements.
 //   AlphaSign::kPaperLiteral : alpha_j = -g_j, Eq 5 as printed. Eq 13 then gives the StVK force
 //                              of the point-reflected displacement: f(x) = -f_StVK(2 rest - x),
 //                              energy E_StVK(2 rest - x), stiffness K_StVK(2 rest - x). Kept to

@@ -1,10 +1,11 @@
 #pragma once
-// The St Venant-Kirchhoff tetrahedron with a fibre term (ERRATA, "Continuum reference"):
+// The St Venant-Kirchhoff tetrahedron with a fibre term (continuum definitions):
 //   psi = lambda/2 tr(E)^2 + mu tr(E^2) + c (a0^T E a0)^2,   E = (F^T F - I)/2,
 //   S = lambda tr(E) I + 2 mu E + 2 c (a0^T E a0) a0 a0^T,    P = F S,
 //   tet energy V0 psi, physical nodal force f_p = -V0 P g_p.
-// Shared by every tet model of seed 000 (their forces are this polynomial, or its
-// linearisation at rest). Everything here is fixed-size: no allocation.
+// Shared by every tet model of Jeffrey, "A non-linear anisotropic Finite Element Method for
+// surgical simulation" (their forces are this polynomial, or its linearisation at rest).
+// Everything here is fixed-size: no allocation.
 #include <Eigen/Core>
 #include <vector>
 

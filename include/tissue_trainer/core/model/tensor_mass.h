@@ -1,9 +1,11 @@
 #pragma once
-// Seed 000 section 1.1 with the anisotropic tensors of Eq 16: Cotin and Picinbono's linear
-// tensor-mass tetrahedron. Per tet the tensors B_jk (3x3, B_jk = B_kj^T, ERRATA typo 2) are
+// Jeffrey, "A non-linear anisotropic Finite Element Method for surgical simulation", Sec. 1.1
+// with the anisotropic tensors of Eq 16: Cotin and Picinbono's linear tensor-mass tetrahedron.
+// Per tet the tensors B_jk (3x3; B_jk = B_kj^T, not symmetric as Sec. 1.3 says) are
 // precomputed as the stiffness blocks K_jk = -2 V0 B_jk; the force is f = -K_lin (x - rest)
 // with K_lin the stiffness of StVK at rest, the energy 1/2 u^T K_lin u. Linear: exact for
-// infinitesimal displacement, not rotation invariant (ERRATA item 5).
+// infinitesimal displacement, not rotation invariant (a pure 10 degree rotation gives ghost
+// forces comparable to a 10% stretch).
 #include <array>
 #include <vector>
 
