@@ -16,6 +16,7 @@ void registerAxialSpringModel(Registry&);        // src/core/model/adamss/
 void registerTorsionSpringModel(Registry&);      // src/core/model/adamss/
 void registerAxisFrictionModel(Registry&);       // src/core/model/adamss/
 void registerVolumeSpringModel(Registry&);       // src/core/model/adamss/
+void registerActiveTensionModel(Registry&);      // src/core/model/adamss/
 // Material laws (src/core/material/*_registration.cpp).
 void registerStvkLaw(Registry&);
 void registerNeoHookeanLaw(Registry&);
@@ -40,6 +41,7 @@ void registerBuiltIns(Registry& registry) {
   registerTorsionSpringModel(registry);
   registerAxisFrictionModel(registry);
   registerVolumeSpringModel(registry);
+  registerActiveTensionModel(registry);
   registerStvkLaw(registry);
   registerNeoHookeanLaw(registry);
   registerVolumeLaw(registry);
