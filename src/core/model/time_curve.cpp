@@ -129,6 +129,10 @@ double TimeCurve::twitchValue(double t) const {
   return 0.0;
 }
 
+bool isTimeCurveType(const std::string& name) {
+  return name == "constant" || name == "piecewise_linear" || name == "twitch";
+}
+
 TimeCurve readTimeCurve(const YamlEntry& entry, double scale) {
   if (!entry.node().IsMap())
     entry.fail("expected a curve map {type: constant|piecewise_linear|twitch, ...}");

@@ -164,5 +164,10 @@ TEST(TimeCurve, ReadsEachType) {
               4.0, 1e-12);
 }
 
+TEST(TimeCurve, KnowsItsTypeNames) {
+  for (const char* name : {"constant", "piecewise_linear", "twitch"}) EXPECT_TRUE(isTimeCurveType(name));
+  for (const char* name : {"sawtooth", "Constant", "", "edge_length"}) EXPECT_FALSE(isTimeCurveType(name));
+}
+
 }  // namespace
 }  // namespace tt

@@ -13,6 +13,7 @@
 //                      Both halves have zero slope at their ends, so the curve is C1 (its
 //                      second derivative jumps at 0, t_r and t_r + t_d): the tension rises
 //                      smoothly from rest to P at s = t_r and relaxes to rest at s = t_r + t_d.
+#include <string>
 #include <vector>
 
 namespace tt {
@@ -53,6 +54,9 @@ class TimeCurve {
   std::vector<double> times_, values_;
   Twitch twitch_;
 };
+
+// True for the curve types readTimeCurve knows (constant, piecewise_linear, twitch).
+bool isTimeCurveType(const std::string& name);
 
 // Reads a curve from a YAML map (one error line naming the file, line and key otherwise):
 //   {type: constant, value: 2.5}
