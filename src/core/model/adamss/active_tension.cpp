@@ -227,25 +227,53 @@ void ActiveTensionModel::addStiffness(const Eigen::VectorXd& x, double scale,
     });
     return;
   }
-  // K = -t (phi' d2V + phi'' dV dV^T).
-  auto block = [&](const auto& elements, const std::vector<double>& restVolume, int e,
-                   auto nodes) {
-    constexpr int N = decltype(nodes)::value;
-    const NodeMatrix<N> xe = gatherNodes<N>(x, elements[e]);
-    NodeMatrix<N> grad;
-    const double V = volumeGradient<N>(xe, grad);
-    double phi, dphi, ddphi;
-    volumePotential(V, restVolume[e], phi, dphi, ddphi);
-    const Eigen::Map<const Eigen::Matrix<double, 3 * N, 1>> g(grad.data());
-    Eigen::Matrix<double, 3 * N, 3 * N> Ke = volumeHessian<N>(xe);
-    Ke *= -tension_ * dphi;
-    if (ddphi != 0.0) Ke.noalias() -= tension_ * ddphi * g * g.transpose();
-    return Ke;
-  };
   addElementStiffness(
       pattern, K, scale, static_cast<int>(tets_.size()),
-      [&](int e) { return block(tets_, tetVolume0_, e, std::integral_constant<int, 4>()); },
-      hexes_, [&](int e) { return block(hexes_, hexVolume0_, e, std::integral_constant<int, 8>()); });
+      [&](int e) { return volumeStiffness<4>(gatherNodes<4>(x, tets_[e]), tetVolume0_[e]); },
+      hexes_,
+      [&](int e) { return volumeStiffness<8>(gatherNodes<8>(x, hexes_[e]), hexVolume0_[e]); });
+}
+
+void ActiveTensionModel::addStiffnessTimes(const Eigen::VectorXd& x, const Eigen::VectorXd& d,
+                                           double scale, Eigen::VectorXd& out) const {
+  if (tension_ == 0.0) return;
+  if (form_ == ActiveForm::kAnisotropic) {
+    axes_->addStiffnessTimes(x, d, scale, out, [&](const Eigen::Matrix3d& zeta, const auto& r) {
+      return fibreForceJacobian(zeta, r);
+    });
+    return;
+  }
+  addVolumeStiffnessTimes<4>(tets_, tetVolume0_, x, d, scale, out);
+  addVolumeStiffnessTimes<8>(hexes_, hexVolume0_, x, d, scale, out);
+}
+
+// K_e = -t (phi' d2V + phi'' dV dV^T).
+template <int N>
+Eigen::Matrix<double, 3 * N, 3 * N> ActiveTensionModel::volumeStiffness(const NodeMatrix<N>& xe,
+                                                                         double V0) const {
+  NodeMatrix<N> grad;
+  const double V = volumeGradient<N>(xe, grad);
+  double phi, dphi, ddphi;
+  volumePotential(V, V0, phi, dphi, ddphi);
+  const Eigen::Map<const Eigen::Matrix<double, 3 * N, 1>> g(grad.data());
+  Eigen::Matrix<double, 3 * N, 3 * N> Ke = volumeHessian<N>(xe);
+  Ke *= -tension_ * dphi;
+  if (ddphi != 0.0) Ke.noalias() -= tension_ * ddphi * g * g.transpose();
+  return Ke;
+}
+
+template <int N>
+void ActiveTensionModel::addVolumeStiffnessTimes(const std::vector<std::array<int, N>>& elements,
+                                                 const std::vector<double>& restVolume,
+                                                 const Eigen::VectorXd& x, const Eigen::VectorXd& d,
+                                                 double scale, Eigen::VectorXd& out) const {
+  accumulateElementForces<N>(elements, out, [&](int e, NodeMatrix<N>& fe) {
+    const NodeMatrix<N> de = gatherNodes<N>(d, elements[e]);
+    Eigen::Map<Eigen::Matrix<double, 3 * N, 1>>(fe.data()).noalias() =
+        scale * volumeStiffness<N>(gatherNodes<N>(x, elements[e]), restVolume[e]) *
+        Eigen::Map<const Eigen::Matrix<double, 3 * N, 1>>(de.data());
+    return 0.0;
+  });
 }
 
 }  // namespace adamss

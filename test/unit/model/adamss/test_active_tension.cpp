@@ -271,6 +271,11 @@ TEST(AdamssActiveTension, ForceIsThePotentialGradientAndStiffnessItsDerivative) 
       const Eigen::VectorXd f = force(model, x);
       const Eigen::MatrixXd K = denseStiffness(model, *mesh, x);
       EXPECT_LT(relDiff(K, fdForceJacobian(model, x, 1e-8)), 1e-6);
+      const Eigen::VectorXd d = perturbed(*mesh, 1.0, rng) - restVector(*mesh);
+      Eigen::VectorXd Kd = Eigen::VectorXd::Zero(x.size());
+      ASSERT_TRUE(model.hasStiffnessProduct());
+      model.addStiffnessTimes(x, d, 1.0, Kd);
+      EXPECT_LT(relDiff(Kd, Eigen::VectorXd(K * d)), 1e-12);
       const bool conservative = !(v.form == ActiveForm::kAnisotropic && v.mode == ActiveMode::kTension);
       EXPECT_EQ(model.hasPotential(), conservative);
       EXPECT_FALSE(model.hasEnergy());  // the potential changes with time: see the header

@@ -68,6 +68,9 @@ class ActiveTensionModel final : public ForceModel {
   bool hasStiffness() const override { return true; }
   void addStiffness(const Eigen::VectorXd& x, double scale, const SparsePattern& pattern,
                     SparseMatrix& K) const override;
+  bool hasStiffnessProduct() const override { return true; }
+  void addStiffnessTimes(const Eigen::VectorXd& x, const Eigen::VectorXd& d, double scale,
+                         Eigen::VectorXd& out) const override;
 
   bool needsStepUpdates() const override { return true; }
   void beginStep(double t, const Eigen::VectorXd&, const Eigen::VectorXd&) override {
@@ -92,6 +95,12 @@ class ActiveTensionModel final : public ForceModel {
   void addVolumeForces(const std::vector<std::array<int, N>>& elements,
                          const std::vector<double>& restVolume, const Eigen::VectorXd& x,
                          Eigen::VectorXd& f) const;
+  template <int N>
+  Eigen::Matrix<double, 3 * N, 3 * N> volumeStiffness(const NodeMatrix<N>& xe, double V0) const;
+  template <int N>
+  void addVolumeStiffnessTimes(const std::vector<std::array<int, N>>& elements,
+                               const std::vector<double>& restVolume, const Eigen::VectorXd& x,
+                               const Eigen::VectorXd& d, double scale, Eigen::VectorXd& out) const;
   // The isotropic potential's factor on V and its first two derivatives: E = t phi(V).
   void volumePotential(double V, double V0, double& phi, double& dphi, double& ddphi) const;
 
