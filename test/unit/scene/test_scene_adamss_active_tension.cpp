@@ -79,5 +79,23 @@ TEST(AdamssActiveTensionScene, TheTwitchDrivesTheTensionInARun) {
   EXPECT_LT(shortest, 0.02 * 0.99);  // the twitch shortened the box by more than 1 %
 }
 
+// config/scenes/muscle_twitch.yaml: the strip fixed at x = 0 shortens during the twitch (its
+// free end moves back by close to t / E of the length at the peak) and is back at rest before
+// the next twitch.
+TEST(AdamssActiveTensionScene, TheMuscleTwitchSceneContractsAndRelaxes) {
+  Scene scene = loadScene(std::string(TT_SOURCE_DIR) + "/config/scenes/muscle_twitch.yaml");
+  const Eigen::VectorXd X = scene.system.state.x;
+  double largestShortening = 0.0;
+  for (int frame = 0; frame < 100; ++frame) {
+    ASSERT_TRUE(scene.integrator->advance(scene.system, scene.frameTime).ok) << frame;
+    const Eigen::Map<const Eigen::Matrix3Xd> x(scene.system.state.x.data(), 3,
+                                               scene.system.numNodes());
+    largestShortening = std::max(largestShortening, 0.08 - x.row(0).maxCoeff());
+  }
+  EXPECT_GT(largestShortening, 0.5 * 0.1 * 0.08);  // t / E = 3 kPa / 30 kPa
+  EXPECT_LT(largestShortening, 1.5 * 0.1 * 0.08);
+  EXPECT_LT((scene.system.state.x - X).lpNorm<Eigen::Infinity>(), 1e-6);  // at rest at t = 1 s
+}
+
 }  // namespace
 }  // namespace tt
