@@ -18,6 +18,7 @@ void registerAxisFrictionModel(Registry&);       // src/core/model/adamss/
 void registerVolumeSpringModel(Registry&);       // src/core/model/adamss/
 void registerCavityModel(Registry&);             // src/core/model/adamss/
 void registerLmsVolumeSpringModel(Registry&);   // src/core/model/adamss/
+void registerActiveTensionModel(Registry&);      // src/core/model/adamss/
 // Material laws (src/core/material/*_registration.cpp).
 void registerStvkLaw(Registry&);
 void registerNeoHookeanLaw(Registry&);
@@ -44,6 +45,7 @@ void registerBuiltIns(Registry& registry) {
   registerVolumeSpringModel(registry);
   registerCavityModel(registry);
   registerLmsVolumeSpringModel(registry);
+  registerActiveTensionModel(registry);
   registerStvkLaw(registry);
   registerNeoHookeanLaw(registry);
   registerVolumeLaw(registry);

@@ -8,6 +8,7 @@
 
 #include "../model_test_util.h"
 #include "tissue_trainer/core/integrate/abm3.h"
+#include "tissue_trainer/core/model/adamss/active_tension.h"
 #include "tissue_trainer/core/model/edge_length.h"
 #include "tissue_trainer/core/model/gravity.h"
 #include "tissue_trainer/core/model/stvk_displacement.h"
@@ -70,6 +71,12 @@ TEST(ModelAllocation, EvaluationLoopsDoNotAllocate) {
   models.push_back(std::make_unique<TensorMassModel>(m, mats));
   models.push_back(std::make_unique<GravityModel>(Eigen::VectorXd::Ones(3 * m.numNodes()),
                                                   Eigen::Vector3d(0, 0, -9.81)));
+  TimeCurve::Twitch twitch;
+  twitch.peak = 1e4;
+  for (auto form : {adamss::ActiveForm::kAnisotropic, adamss::ActiveForm::kIsotropic})
+    for (auto mode : {adamss::ActiveMode::kTension, adamss::ActiveMode::kForce})
+      models.push_back(std::make_unique<adamss::ActiveTensionModel>(m, form, mode,
+                                                                    TimeCurve::twitch(twitch)));
   const Eigen::VectorXd x = perturbed(m, 0.001, rng), v = Eigen::VectorXd::Zero(x.size());
   Eigen::VectorXd f = Eigen::VectorXd::Zero(x.size());
   SparsePattern pattern(m.numNodes(), m.tets);
@@ -77,6 +84,7 @@ TEST(ModelAllocation, EvaluationLoopsDoNotAllocate) {
   // The counter itself works.
   EXPECT_GT(allocationsDuring([&] { Eigen::VectorXd copy = x; f += copy; }), 0);
   for (const auto& model : models) {
+    EXPECT_EQ(allocationsDuring([&] { model->beginStep(0.05, x, v); }), 0) << model->name();
     EXPECT_EQ(allocationsDuring([&] { model->addForce(x, v, f); }), 0) << model->name();
     EXPECT_EQ(allocationsDuring([&] { model->energy(x); }), 0) << model->name();
     EXPECT_EQ(allocationsDuring([&] { model->addStiffness(x, 0.5, pattern, K); }), 0)

@@ -33,6 +33,7 @@
 // transpose of the same map, so the point forces and the nodal forces do the same work and have
 // the same resultant and moment.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <array>
 #include <vector>
 
@@ -123,6 +124,8 @@ struct AxisSpringRest {
   Eigen::Vector3d area = Eigen::Vector3d::Zero();     // projectedFaceAreas at rest
   Eigen::Vector3d restCosine = Eigen::Vector3d::Zero();  // of the pairs (0, 1), (0, 2), (1, 2)
   double volume = 0.0;                                // V0
+  // det[zeta_0^0 zeta_1^0 zeta_2^0]: the signed rest volume V_h^0 of the virtual hexahedron.
+  double axisVolume = 0.0;
 };
 
 template <class Element>
@@ -135,6 +138,7 @@ AxisSpringRest<Element::kNodes> axisSpringRest(const NodeMatrix<Element::kNodes>
   r.restCosine << axes.axes0.col(0).dot(axes.axes0.col(1)), axes.axes0.col(0).dot(axes.axes0.col(2)),
       axes.axes0.col(1).dot(axes.axes0.col(2));
   r.volume = volume;
+  r.axisVolume = axes.length0.prod() * axes.axes0.col(0).dot(axes.axes0.col(1).cross(axes.axes0.col(2)));
   return r;
 }
 
