@@ -29,6 +29,7 @@ void registerNewtonian(Registry&);
 void registerRadauIIA(Registry&);
 void registerExplicitEuler(Registry&);
 void registerAbm3(Registry&);
+void registerQuasistatic(Registry&);
 
 void registerBuiltIns(Registry& registry) {
   registerEdgeLengthModel(registry);
@@ -51,6 +52,7 @@ void registerBuiltIns(Registry& registry) {
   registerRadauIIA(registry);
   registerExplicitEuler(registry);
   registerAbm3(registry);
+  registerQuasistatic(registry);
 }
 
 }  // namespace tt
