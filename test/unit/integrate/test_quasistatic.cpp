@@ -228,5 +228,40 @@ TEST(QuasistaticIntegrator, UnconvergedFrameFailsCleanly) {
   EXPECT_EQ(scene.system.state.x, before);
 }
 
+// Each frame puts the controlled face where its path is at the frame's end and the free
+// nodes in equilibrium there.
+TEST(QuasistaticIntegrator, ControlledFaceFollowsItsPathFrameByFrame) {
+  Scene scene = loadScene(testutil::writeScene("sheared_block.yaml", R"(name: sheared
+mesh: {generator: box, nodes: [3, 3, 3], size: [0.01, 0.01, 0.01]}
+materials:
+  - {young_modulus: 10, poisson_ratio: 0.4, stress_unit: kPa}
+force_models:
+  - {type: hyperelastic, law: neo_hookean}
+integrator: {type: quasistatic, abs_tolerance: 1e-10}
+boundary:
+  fixed:
+    - plane: {point: [0, 0, 0], normal: [0, 0, 1]}
+  controlled:
+    - plane: {point: [0, 0, 0.01], normal: [0, 0, 1]}
+      path: [[0, 0, 0, 0], [1, 0.002, 0, 0.001]]
+run: {frame_time: 0.25, duration: 1}
+)"));
+  System& s = scene.system;
+  ASSERT_EQ(s.controlled.size(), 1u);
+  Eigen::VectorXd f;
+  for (int frame = 1; frame <= 4; ++frame) {
+    const StepReport r = scene.integrator->advance(s, scene.frameTime);
+    ASSERT_TRUE(r.ok) << r.failure;
+    EXPECT_DOUBLE_EQ(s.state.t, 0.25 * frame);
+    const Eigen::Vector3d offset = Eigen::Vector3d(0.002, 0, 0.001) * 0.25 * frame;
+    for (int n : s.controlled[0].nodes)
+      EXPECT_LT((s.state.x.segment<3>(3 * n) - s.mesh.rest.col(n) - offset).norm(), 1e-15);
+    s.computeForce(s.state.x, s.state.v, f);
+    s.zeroConstrained(f);
+    EXPECT_LE(f.norm(), 1e-10) << "frame " << frame;
+    EXPECT_GT(r.newtonIterations, 0);
+  }
+}
+
 }  // namespace
 }  // namespace tt
