@@ -170,6 +170,28 @@ TEST(CliSpecimen, ShearWorkEqualsTheStoredEnergy) {
   }
 }
 
+// Simple shear of the Hunter cube in its fibre-normal plane towards the sheet-normal
+// (fibre z, sheet y, sheet-normal z x y = -x, so the face moves along -x). The homogeneous
+// shear F = I + gamma N (x) f satisfies the clamps, with the energy V (w_11(gamma^2 / 2) +
+// w_13(gamma / 2)) of an independent evaluation of Eq. 2.153; the free lateral faces can only
+// lower it (the equilibrium minimises the energy over such fields), and not to nothing.
+TEST(CliSpecimen, HunterShearStoresAtMostTheHomogeneousEnergy) {
+  const double homogeneous[] = {0.0, 5.53738e-6, 2.75352e-5, 7.95931e-5, 1.86411e-4, 3.94093e-4};
+  const std::string scene = testutil::writeScene(
+      "hunter.yaml", replaced(replaced(kHunterScene, "MODEL", "hyperelastic"), "SPLIT", "six"));
+  const auto r = runCli("shear " + scene + " --plane-normal z --direction x --max-shear -0.5 "
+                        "--steps 5");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto rows = parseCsv(r.out, "shear,work_J,energy_J");
+  ASSERT_EQ(rows.size(), 6u);
+  for (int i = 1; i < 6; ++i) {
+    std::printf("gamma %.1f: energy %.6g J, homogeneous %.6g J\n", rows[i][0], rows[i][2],
+                homogeneous[i]);
+    EXPECT_LE(rows[i][2], homogeneous[i] * (1.0 + 1e-9));
+    EXPECT_GT(rows[i][2], 0.5 * homogeneous[i]);
+  }
+}
+
 TEST(CliSpecimen, StdoutAndOutFileHoldTheSameCsv) {
   const std::string scene = testutil::writeScene("shear_block.yaml", kShearScene);
   const fs::path out = fs::temp_directory_path() / "tt_stretch.csv";
