@@ -16,6 +16,8 @@
 #include "tissue_trainer/core/error.h"
 #include "tissue_trainer/core/material/teran_muscle.h"
 #include "tissue_trainer/core/model/hyperelastic.h"
+#include "tissue_trainer/core/integrate/quasistatic.h"
+#include "tissue_trainer/core/integrate/specimen_loading.h"
 #include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/mesh/mesh_io.h"
 #include "tissue_trainer/core/mesh/quality.h"
@@ -41,6 +43,12 @@ const char* const kUsage =
     "                    --fiber-stretch deviatoric|nondeviatoric [--inversion-threshold EPS]\n"
     "                    [--psd] [--stiffness-times DIR]\n"
     "  tissue_cli forces --scene SCENE.yaml --deformed POSITIONS [--stiffness-times DIR]\n"
+    "  tissue_cli stretch SCENE.yaml --axis x|y|z --max-strain S --steps N [--out FILE.csv]\n"
+    "  tissue_cli shear SCENE.yaml --plane-normal x|y|z --direction x|y|z --max-shear G\n"
+    "                   --steps N [--out FILE.csv]\n"
+    "                                       (quasi-static stretch and simple shear of the scene's\n"
+    "                                        specimen; CSV strain,stretch,force_N,stress_Pa or\n"
+    "                                        shear,work_J,energy_J)\n"
     "  tissue_cli models                    (every registered force model, law and integrator)\n";
 
 struct UsageError : std::runtime_error {
@@ -61,6 +69,7 @@ struct Arguments {
       }
       const auto known = arity.find(arg.substr(2));
       if (known == arity.end()) throw UsageError("unknown option " + arg);
+      if (options.count(known->first)) throw UsageError(arg + " given more than once");
       std::vector<std::string>& values = options[known->first];
       for (int k = 0; k < known->second; ++k) {
         if (++i >= argc) throw UsageError(arg + " expects " + std::to_string(known->second) + " value(s)");
@@ -402,6 +411,118 @@ int forces(const Arguments& args) {
                        mesh.numNodes());
 }
 
+// --- stretch and shear: quasi-static material tests of the scene's specimen -----------------
+
+int axisFlag(const Arguments& args, const std::string& name) {
+  const std::string& value = args.text(name);
+  if (value == "x") return 0;
+  if (value == "y") return 1;
+  if (value == "z") return 2;
+  throw UsageError("--" + name + " expects x, y or z, got '" + value + "'");
+}
+
+int stepsFlag(const Arguments& args) {
+  const double n = args.number("steps");
+  if (!(n >= 1.0) || n != std::floor(n) || n > 1e6)
+    throw UsageError("--steps expects a whole number >= 1, got '" + args.text("steps") + "'");
+  return static_cast<int>(n);
+}
+
+// The scene's specimen for a material test: its elastic models only (body loads such as
+// gravity and the external force are left out) and, when its integrator is quasistatic, that
+// integrator's solver settings.
+struct Specimen {
+  tt::Scene scene;
+  tt::EquilibriumParams params;
+};
+
+Specimen loadSpecimen(const Arguments& args, const char* command) {
+  if (args.positional.size() != 1) throw UsageError(std::string(command) + " expects one SCENE.yaml");
+  Specimen specimen{tt::loadScene(args.positional[0]), {}};
+  tt::System& s = specimen.scene.system;
+  s.models.erase(std::remove_if(s.models.begin(), s.models.end(),
+                                [](const auto& m) { return m->isBodyLoad(); }),
+                 s.models.end());
+  s.externalForce.setZero();
+  if (const auto* q = dynamic_cast<const tt::QuasistaticIntegrator*>(
+          &tt::unguarded(*specimen.scene.integrator)))
+    specimen.params = q->params();
+  if (!s.hasStiffness())
+    throw UsageError("every force model of " + args.positional[0] + " must provide its stiffness");
+  return specimen;
+}
+
+// The CSV goes to --out or to stdout.
+struct CsvOutput {
+  std::ofstream file;
+  std::FILE* out = stdout;
+  explicit CsvOutput(const Arguments& args) {
+    if (!args.has("out")) return;
+    file.open(args.text("out"));
+    if (!file) throw UsageError("cannot write --out " + args.text("out"));
+  }
+  void line(const char* text) {
+    if (file.is_open()) file << text << "\n";
+    else std::fprintf(out, "%s\n", text);
+  }
+};
+
+int finishSpecimen(const Arguments& args, const tt::SpecimenRun& run) {
+  if (run.ok) return kOk;
+  std::cerr << args.positional[0] << ": " << run.failure << "\n";
+  return kRunFailed;
+}
+
+int stretch(const Arguments& args) {
+  const int axis = axisFlag(args, "axis");
+  const double maxStrain = args.number("max-strain");
+  if (!(maxStrain > -1.0))
+    throw UsageError("--max-strain expects a strain above -1, got '" + args.text("max-strain") + "'");
+  const int steps = stepsFlag(args);
+  Specimen specimen = loadSpecimen(args, "stretch");
+  CsvOutput csv(args);
+  csv.line("strain,stretch,force_N,stress_Pa");
+  char text[160];
+  tt::SpecimenRun run;
+  try {
+    run = tt::stretchSpecimen(specimen.scene.system, axis, maxStrain, steps, specimen.params,
+                              [&](const tt::StretchRow& r) {
+                                std::snprintf(text, sizeof text, "%.12g,%.12g,%.12g,%.12g",
+                                              r.strain, r.stretch, r.force, r.stress);
+                                csv.line(text);
+                              });
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(args.positional[0] + ": " + e.what());
+  }
+  return finishSpecimen(args, run);
+}
+
+int shear(const Arguments& args) {
+  const int normal = axisFlag(args, "plane-normal");
+  const int direction = axisFlag(args, "direction");
+  if (direction == normal)
+    throw UsageError("--direction must differ from --plane-normal (both '" +
+                     args.text("direction") + "')");
+  const double maxShear = args.number("max-shear");
+  const int steps = stepsFlag(args);
+  Specimen specimen = loadSpecimen(args, "shear");
+  CsvOutput csv(args);
+  csv.line("shear,work_J,energy_J");
+  char text[160];
+  tt::SpecimenRun run;
+  try {
+    run = tt::shearSpecimen(specimen.scene.system, normal, direction, maxShear, steps,
+                            specimen.params, [&](const tt::ShearRow& r) {
+                              std::snprintf(text, sizeof text, "%.12g,%.12g,%.12g", r.shear,
+                                            r.work, r.energy);
+                              csv.line(text);
+                            });
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(args.positional[0] + ": " + e.what());
+  }
+  return finishSpecimen(args, run);
+}
+
 void printKeys(const std::vector<tt::KeyDoc>& keys) {
   for (const tt::KeyDoc& k : keys) std::printf("  key %s: %s\n", k.key.c_str(), k.description.c_str());
 }
@@ -448,6 +569,13 @@ int main(int argc, char** argv) {
                                {"bulk", 1}, {"peak-stress", 1}, {"activation", 1},
                                {"fiber-stretch", 1}, {"inversion-threshold", 1}, {"psd", 0}}));
     if (command == "models") return models(Arguments(argc, argv, 2, {}));
+    if (command == "stretch")
+      return stretch(Arguments(argc, argv, 2,
+                               {{"axis", 1}, {"max-strain", 1}, {"steps", 1}, {"out", 1}}));
+    if (command == "shear")
+      return shear(Arguments(argc, argv, 2,
+                             {{"plane-normal", 1}, {"direction", 1}, {"max-shear", 1},
+                              {"steps", 1}, {"out", 1}}));
     throw UsageError("unknown command '" + command + "'");
   } catch (const tt::InputError& e) {
     std::cerr << e.what() << "\n";

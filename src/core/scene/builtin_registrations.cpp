@@ -32,6 +32,7 @@ void registerNewtonian(Registry&);
 void registerRadauIIA(Registry&);
 void registerExplicitEuler(Registry&);
 void registerAbm3(Registry&);
+void registerQuasistatic(Registry&);
 
 void registerBuiltIns(Registry& registry) {
   registerEdgeLengthModel(registry);
@@ -57,6 +58,7 @@ void registerBuiltIns(Registry& registry) {
   registerRadauIIA(registry);
   registerExplicitEuler(registry);
   registerAbm3(registry);
+  registerQuasistatic(registry);
 }
 
 }  // namespace tt

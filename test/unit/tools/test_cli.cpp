@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string>
 
+#include "cli_test_util.h"
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/material/teran_muscle.h"
 #include "tissue_trainer/core/mesh/mesh_io.h"
@@ -25,26 +26,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int exitCode;
-  std::string out, err;
-};
-
-Result runCli(const std::string& arguments) {
-  const fs::path errFile = fs::temp_directory_path() / "tt_cli_stderr.txt";
-  const std::string command =
-      std::string(TT_CLI_PATH) + " " + arguments + " 2>" + errFile.string();
-  Result r;
-  FILE* pipe = popen(command.c_str(), "r");
-  char buffer[4096];
-  size_t n;
-  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) r.out.append(buffer, n);
-  const int status = pclose(pipe);
-  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream err(errFile);
-  r.err.assign(std::istreambuf_iterator<char>(err), {});
-  return r;
-}
+using Result = testutil::CliResult;
+using testutil::runCli;
 
 const std::string kLiver = std::string(TT_SOURCE_DIR) + "/config/meshes/liver.msh";
 

@@ -1,0 +1,208 @@
+#include "tissue_trainer/core/integrate/equilibrium.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+namespace tt {
+
+namespace {
+
+std::string number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", value);
+  return text;
+}
+
+}  // namespace
+
+const char* stopName(EquilibriumStop stop) {
+  switch (stop) {
+    case EquilibriumStop::kConverged: return "converged";
+    case EquilibriumStop::kIterationLimit: return "iteration limit";
+    case EquilibriumStop::kLineSearchFailed: return "line search failed";
+    case EquilibriumStop::kNonFiniteForce: return "non-finite force";
+    case EquilibriumStop::kNoStiffness: return "no stiffness";
+  }
+  return "unknown";
+}
+
+EquilibriumSolver::EquilibriumSolver(EquilibriumParams p) : params(p) {}
+
+double EquilibriumSolver::potential(const System& system, const Eigen::VectorXd& x) const {
+  if (!hasEnergy_) return std::numeric_limits<double>::quiet_NaN();
+  return system.potentialEnergy(x) - system.externalForce.dot(x);
+}
+
+double EquilibriumSolver::residualAt(const System& system, const Eigen::VectorXd& x,
+                                     Eigen::VectorXd& f) const {
+  system.computeForce(x, zeroVelocity_, f);
+  system.zeroConstrained(f);
+  return f.stableNorm();  // a body nearly at rest: squares that underflow
+}
+
+bool EquilibriumSolver::conjugateGradientSolve(const Preconditioner& M,
+                                               EquilibriumReport& report) {
+  const SolveSettings settings{params.linearTolerance, params.linearMaxIterations, 30};
+  dx_.setZero(f_.size());
+  const SolveReport solved = conjugateGradients(MatrixOperator(A_), f_, dx_, M, settings, krylov_);
+  report.linearIterations += solved.iterations;
+  // An unconverged solve still gives an inexact Newton direction; the line search judges it.
+  return solved.outcome != SolveOutcome::kNonPositiveCurvature;
+}
+
+void EquilibriumSolver::scaledForceDirection() {
+  dx_ = f_.cwiseQuotient(diagonalValues_.cwiseAbs().cwiseMax(1e-300));
+}
+
+bool EquilibriumSolver::newtonDirection(const System& system, const Eigen::VectorXd& x,
+                                        EquilibriumReport& report) {
+  system.assembleStiffness(x, A_, -1.0);
+  if (!Eigen::Map<const Eigen::VectorXd>(A_.valuePtr(), A_.nonZeros()).allFinite()) return false;
+  system.constrainMatrix(A_);
+  if (diagonal_.size() != static_cast<size_t>(A_.rows())) {
+    diagonal_.assign(A_.rows(), -1);
+    for (int row = 0; row < A_.outerSize(); ++row)
+      for (SparseMatrix::InnerIterator it(A_, row); it; ++it)
+        if (it.col() == row) diagonal_[row] = static_cast<int>(&it.valueRef() - A_.valuePtr());
+  }
+  double* a = A_.valuePtr();
+  diagonalValues_.resize(A_.rows());
+  for (int row = 0; row < A_.rows(); ++row) diagonalValues_[row] = a[diagonal_[row]];
+  jacobi_.setDiagonal(diagonalValues_);
+
+  if (params.preconditioner == EquilibriumParams::Preconditioning::kCholesky) {
+    if (!cholesky_) cholesky_ = std::make_unique<CholeskyPreconditioner>(false);
+    // Refused when -K is not positive definite: the shifted solves below take over.
+    if (cholesky_->rebuildNow(A_) && conjugateGradientSolve(*cholesky_, report)) return true;
+  } else if (jacobi_.positive() && conjugateGradientSolve(jacobi_, report)) {
+    return true;
+  }
+
+  // -K is not positive definite here: -K + mu I over the free DOFs, mu growing tenfold.
+  double meanDiagonal = 0.0;
+  int free = 0;
+  for (int row = 0; row < A_.rows(); ++row)
+    if (!system.isConstrained[row]) {
+      meanDiagonal += std::abs(diagonalValues_[row]);
+      ++free;
+    }
+  meanDiagonal = free > 0 ? meanDiagonal / free : 1.0;
+  double applied = 0.0, mu = params.shiftFraction * meanDiagonal;
+  for (int k = 0; k < params.maxShifts; ++k, mu *= 10.0) {
+    for (int row = 0; row < A_.rows(); ++row)
+      if (!system.isConstrained[row]) a[diagonal_[row]] += mu - applied;
+    applied = mu;
+    for (int row = 0; row < A_.rows(); ++row) diagonalValues_[row] = a[diagonal_[row]];
+    if (jacobi_.setDiagonal(diagonalValues_) && jacobi_.positive() &&
+        conjugateGradientSolve(jacobi_, report)) {
+      ++report.shiftedSolves;
+      return true;
+    }
+  }
+  ++report.gradientSteps;
+  scaledForceDirection();
+  return true;
+}
+
+bool EquilibriumSolver::lineSearch(const System& system, Eigen::VectorXd& x, double& residual) {
+  const double energy0 = potential(system, x);
+  const double slope = f_.dot(dx_);  // -dPi/da at a = 0
+  double step = 1.0;
+  for (int k = 0; k <= params.maxLineSearchSteps; ++k, step *= 0.5) {
+    trial_ = x + step * dx_;
+    const double r = residualAt(system, trial_, trialF_);
+    if (!std::isfinite(r)) continue;
+    bool accepted;
+    if (hasEnergy_) {
+      const double energy = potential(system, trial_);
+      if (!std::isfinite(energy)) continue;
+      // Energy differences below round-off: judged by the residual.
+      const bool roundOff = std::abs(energy - energy0) <=
+                            1e-12 * std::max(std::abs(energy0), std::abs(energy));
+      accepted = energy <= energy0 - params.armijo * step * slope || (roundOff && r < residual);
+    } else {
+      accepted = r <= (1.0 - params.armijo * step) * residual;
+    }
+    if (accepted) {
+      x.swap(trial_);
+      f_.swap(trialF_);
+      residual = r;
+      return true;
+    }
+  }
+  return false;
+}
+
+EquilibriumReport EquilibriumSolver::solve(const System& system, Eigen::VectorXd& x) {
+  EquilibriumReport report;
+  const auto stop = [&report](EquilibriumStop why, std::string text) {
+    report.stop = why;
+    report.reason = std::move(text);
+    return report;
+  };
+  if (!system.hasStiffness())
+    return stop(EquilibriumStop::kNoStiffness,
+                "equilibrium: every force model must provide its stiffness");
+  hasEnergy_ = std::all_of(system.models.begin(), system.models.end(),
+                           [](const auto& m) { return m->hasEnergy(); });
+  zeroVelocity_.setZero(x.size());
+  double residual = residualAt(system, x, f_);
+  report.initialResidual = report.residual = residual;
+  report.residualHistory.push_back(residual);
+  if (!std::isfinite(residual))
+    return stop(EquilibriumStop::kNonFiniteForce, "equilibrium: non-finite force at the start");
+  const double target =
+      std::max(params.absoluteTolerance, params.relativeTolerance * report.initialResidual);
+  while (residual > target) {
+    if (report.newtonIterations >= params.maxNewtonIterations)
+      return stop(EquilibriumStop::kIterationLimit,
+                  "equilibrium: no convergence in " + std::to_string(params.maxNewtonIterations) +
+                      " Newton iterations (residual " + number(residual) + " N, tolerance " +
+                      number(target) + " N)");
+    if (!newtonDirection(system, x, report))
+      return stop(EquilibriumStop::kNonFiniteForce,
+                  "equilibrium: non-finite stiffness at Newton iteration " +
+                      std::to_string(report.newtonIterations + 1));
+    // Not a descent direction of the energy (an indefinite matrix CG did not notice):
+    // the scaled force is.
+    bool gradient = hasEnergy_ && !(f_.dot(dx_) > 0.0);
+    if (gradient) {
+      ++report.gradientSteps;
+      scaledForceDirection();
+    }
+    bool moved = lineSearch(system, x, residual);
+    if (!moved && !gradient) {
+      ++report.gradientSteps;
+      scaledForceDirection();
+      moved = lineSearch(system, x, residual);
+    }
+    if (!moved)
+      return stop(EquilibriumStop::kLineSearchFailed,
+                  "equilibrium: the line search found no decrease at Newton iteration " +
+                      std::to_string(report.newtonIterations + 1) + " (residual " +
+                      number(residual) + " N, tolerance " + number(target) + " N)");
+    ++report.newtonIterations;
+    report.residual = residual;
+    report.residualHistory.push_back(residual);
+  }
+  return report;
+}
+
+void solveEquilibrium(System& system, const EquilibriumParams& params,
+                      EquilibriumReport& report) {
+  EquilibriumSolver solver(params);
+  Eigen::VectorXd x = system.state.x;
+  report = solver.solve(system, x);
+  system.state.x = x;
+  system.state.v.setZero(x.size());
+}
+
+EquilibriumReport solveEquilibrium(System& system, const EquilibriumParams& params) {
+  EquilibriumReport report;
+  solveEquilibrium(system, params, report);
+  return report;
+}
+
+}  // namespace tt
