@@ -16,6 +16,7 @@
 #include "tissue_trainer/core/model/gravity.h"
 #include "tissue_trainer/core/scene/registry.h"
 #include "tissue_trainer/core/scene/yaml_reader.h"
+#include "scene_fibres.h"
 
 namespace tt {
 namespace {
@@ -296,7 +297,7 @@ std::uint8_t parseAxes(const YamlEntry& e) {
 
 // The keys of a `materials` entry: the common ones and every registered law's own keys.
 std::vector<std::string> materialKeys() {
-  std::vector<std::string> keys{"name", "region", "density", "stress_unit", "young_modulus",
+  std::vector<std::string> keys{"name", "region", "fibres", "density", "stress_unit", "young_modulus",
                                 "poisson_ratio", "young_modulus_longitudinal",
                                 "poisson_ratio_longitudinal", "lambda", "mu",
                                 "lambda_longitudinal", "mu_longitudinal"};
@@ -414,56 +415,6 @@ std::vector<Material> assignMaterials(const YamlEntry& list, Mesh& mesh) {
   return materials;
 }
 
-// The fibre, sheet and sheet-normal axes (columns) of a `fibres` entry:
-//   {direction: a0}               a0 completed to a right-handed orthonormal frame;
-//   {direction: a0, sheet: s0}    s0 orthogonal to a0 (to 1e-6), normal a0 x s0;
-//   {angles_deg: [phi, theta]}    the global frame turned by spherical angles ("Adamss:
-//                                 Advanced Anisotropic Mass-Spring System", Sec. 2.8.1): fibre
-//                                 (sin t cos p, sin t sin p, cos t), sheet its derivative in t
-//                                 (cos t cos p, cos t sin p, -sin t), normal fibre x sheet.
-Eigen::Matrix3d fibreFrameOf(const YamlEntry& spec) {
-  spec.expectMap({"direction", "sheet", "angles_deg"});
-  Eigen::Matrix3d frame;
-  if (spec.has("angles_deg")) {
-    if (spec.has("direction") || spec.has("sheet"))
-      spec["angles_deg"].fail("expected either angles_deg or direction (and sheet), not both");
-    const YamlEntry angles = spec["angles_deg"];
-    if (angles.size() != 2) angles.fail("expected a list of 2 angles [phi, theta] in degrees");
-    const double p = angles[0].number() * M_PI / 180.0, t = angles[1].number() * M_PI / 180.0;
-    frame.col(0) << std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t);
-    frame.col(1) << std::cos(t) * std::cos(p), std::cos(t) * std::sin(p), -std::sin(t);
-    frame.col(2) = frame.col(0).cross(frame.col(1));
-    return frame;
-  }
-  Eigen::Vector3d a0 = spec["direction"].vector3();
-  if (a0.norm() == 0.0) spec["direction"].fail("expected a non-zero direction");
-  a0.normalize();
-  Eigen::Vector3d a1;
-  if (spec.has("sheet")) {
-    const YamlEntry sheet = spec["sheet"];
-    a1 = sheet.vector3();
-    if (a1.norm() == 0.0) sheet.fail("expected a non-zero sheet direction");
-    a1.normalize();
-    const double cosine = a1.dot(a0);
-    if (std::abs(cosine) > 1e-6)
-      sheet.fail("expected a sheet direction orthogonal to the fibre direction, got cosine " +
-                 std::to_string(cosine));
-  } else {
-    // Complete a0 to a right-handed orthonormal frame.
-    const Eigen::Vector3d helper =
-        std::abs(a0.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
-    a1 = a0.cross(helper).normalized();
-  }
-  frame << a0, a1, a0.cross(a1);
-  return frame;
-}
-
-void applyFibres(const YamlEntry& spec, Mesh& mesh) {
-  const Eigen::Matrix3d frame = fibreFrameOf(spec);
-  mesh.fibreFrame.assign(mesh.numTets(), frame);
-  mesh.hexFibreFrame.assign(mesh.numHexes(), frame);
-}
-
 void applyBoundary(const YamlEntry& spec, System& system) {
   spec.expectMap({"fixed", "controlled"});
   if (spec.has("fixed")) {
@@ -539,8 +490,9 @@ Scene loadScene(const std::string& path) {
   const fs::path sceneDir = fs::path(path).parent_path();
   Placement placement;
   Mesh mesh = loadMesh(top["mesh"], sceneDir, scene.notes, placement);
-  if (top.has("fibres")) applyFibres(top["fibres"], mesh);
+  if (top.has("fibres")) applySceneFibres(top["fibres"], sceneDir, placement.rotation, mesh);
   std::vector<Material> materials = assignMaterials(top["materials"], mesh);
+  applyMaterialFibres(top["materials"], mesh);
   scene.system = System(std::move(mesh), std::move(materials));
   System& system = scene.system;
 
