@@ -12,6 +12,7 @@
 #include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/mesh/mesh_io.h"
+#include "tissue_trainer/core/mesh/node_tags.h"
 #include "tissue_trainer/core/mesh/quality.h"
 #include "tissue_trainer/core/model/gravity.h"
 #include "tissue_trainer/core/scene/registry.h"
@@ -415,8 +416,79 @@ std::vector<Material> assignMaterials(const YamlEntry& list, Mesh& mesh) {
   return materials;
 }
 
-void applyBoundary(const YamlEntry& spec, System& system) {
-  spec.expectMap({"fixed", "controlled"});
+// A motion that has a component along an axis it does not control would be ignored there.
+void checkControlledAxes(const YamlEntry& e, const Eigen::Vector3d& motion, std::uint8_t axes) {
+  for (int axis = 0; axis < 3; ++axis)
+    if (!(axes & (1u << axis)) && motion[axis] != 0.0)
+      e.fail(std::string("expected no motion along ") + "xyz"[axis] +
+             ", which the entry does not control (see axes)");
+}
+
+// The prescribed motion of controlled axes ("Adamss: Advanced Anisotropic Mass-Spring System",
+// Sec. 2.6): one of path [[t, dx, dy, dz], ...], velocity [vx, vy, vz] (m/s, from t = 0) or
+// step [dx, dy, dz] (m per frame of run.frame_time, the thesis's predefined step per step).
+PrescribedPath readPrescription(const YamlEntry& item, std::uint8_t axes, double frameTime) {
+  const int given = item.has("path") + item.has("velocity") + item.has("step");
+  if (given != 1)
+    item.fail(given == 0 ? "expected one of 'path', 'velocity' or 'step' for the controlled axes"
+                         : "expected only one of 'path', 'velocity' or 'step'");
+  PrescribedPath p;
+  if (item.has("velocity") || item.has("step")) {
+    const YamlEntry e = item[item.has("velocity") ? "velocity" : "step"];
+    p.velocity = e.vector3() / (item.has("step") ? frameTime : 1.0);
+    checkControlledAxes(e, p.velocity, axes);
+    return p;
+  }
+  const YamlEntry path = item["path"];
+  if (path.size() == 0) path.fail("expected at least one [t, dx, dy, dz] key");
+  for (size_t i = 0; i < path.size(); ++i) {
+    const YamlEntry key = path[i];
+    if (key.size() != 4) key.fail("expected [t, dx, dy, dz]");
+    const double t = key[0].number();
+    if (!p.times.empty() && t <= p.times.back()) key[0].fail("expected times in increasing order");
+    p.times.push_back(t);
+    p.offsets.emplace_back(key[1].number(), key[2].number(), key[3].number());
+    checkControlledAxes(key, p.offsets.back(), axes);
+  }
+  return p;
+}
+
+// tags: {file, path | velocity | step}: the fixation and control tags of an index file
+// (readNodeTagFile); its controlled nodes follow the entry's motion, one set per axis mask.
+void applyTagFile(const YamlEntry& spec, const fs::path& sceneDir, double frameTime,
+                  System& system) {
+  spec.expectMap({"file", "path", "velocity", "step"});
+  const YamlEntry fileEntry = spec["file"];
+  fs::path file = fileEntry.text();
+  if (file.is_relative()) file = sceneDir / file;
+  if (!fs::is_regular_file(file)) fileEntry.fail("tag file '" + file.string() + "' not found");
+  const std::vector<NodeTagLine> lines = readNodeTagFile(file.string(), system.numNodes());
+  std::vector<int> byAxes[8];
+  for (const NodeTagLine& tag : lines) {
+    system.mesh.nodeTags[tag.node] |= tag.fixed;
+    if (tag.controlled) byAxes[tag.controlled].push_back(tag.node);
+  }
+  const bool controls = std::any_of(lines.begin(), lines.end(),
+                                    [](const NodeTagLine& t) { return t.controlled != 0; });
+  const bool moves = spec.has("path") || spec.has("velocity") || spec.has("step");
+  if (!controls) {
+    if (moves)
+      spec.fail("the tag file controls no node (X, Y, Z), so nothing reads the motion");
+    return;
+  }
+  for (std::uint8_t axes = 1; axes < 8; ++axes) {
+    if (byAxes[axes].empty()) continue;
+    ControlledSet set;
+    set.nodes = byAxes[axes];
+    set.axes = axes;
+    set.path = readPrescription(spec, kFixedAll, frameTime);
+    system.controlled.push_back(std::move(set));
+  }
+}
+
+void applyBoundary(const YamlEntry& spec, const fs::path& sceneDir, double frameTime,
+                   System& system) {
+  spec.expectMap({"fixed", "controlled", "tags"});
   if (spec.has("fixed")) {
     const YamlEntry list = spec["fixed"];
     for (size_t k = 0; k < list.size(); ++k) {
@@ -430,23 +502,15 @@ void applyBoundary(const YamlEntry& spec, System& system) {
     const YamlEntry list = spec["controlled"];
     for (size_t k = 0; k < list.size(); ++k) {
       const YamlEntry item = list[k];
-      item.expectMap({"box", "plane", "nodes", "path"});
+      item.expectMap({"box", "plane", "nodes", "axes", "path", "velocity", "step"});
       ControlledSet set;
       set.nodes = selectNodes(item, system.mesh);
-      const YamlEntry path = item["path"];
-      if (path.size() == 0) path.fail("expected at least one [t, dx, dy, dz] key");
-      for (size_t i = 0; i < path.size(); ++i) {
-        const YamlEntry key = path[i];
-        if (key.size() != 4) key.fail("expected [t, dx, dy, dz]");
-        const double t = key[0].number();
-        if (!set.path.times.empty() && t <= set.path.times.back())
-          key[0].fail("expected times in increasing order");
-        set.path.times.push_back(t);
-        set.path.offsets.emplace_back(key[1].number(), key[2].number(), key[3].number());
-      }
+      if (item.has("axes")) set.axes = parseAxes(item["axes"]);
+      set.path = readPrescription(item, set.axes, frameTime);
       system.controlled.push_back(std::move(set));
     }
   }
+  if (spec.has("tags")) applyTagFile(spec["tags"], sceneDir, frameTime, system);
   system.updateConstraints();
 }
 
@@ -510,7 +574,13 @@ Scene loadScene(const std::string& path) {
       break;
     }
   if (top.has("loads")) applyLoads(top["loads"], system);
-  if (top.has("boundary")) applyBoundary(top["boundary"], system);
+  if (top.has("run")) {
+    const YamlEntry run = top["run"];
+    run.expectMap({"frame_time", "duration"});
+    scene.frameTime = run.positive("frame_time", scene.frameTime);
+    scene.duration = run.positive("duration", scene.duration);
+  }
+  if (top.has("boundary")) applyBoundary(top["boundary"], sceneDir, scene.frameTime, system);
   system.prescribe(0.0, system.state.x, system.state.v);
 
   const YamlEntry integrator = top["integrator"];
@@ -527,12 +597,6 @@ Scene loadScene(const std::string& path) {
   if (!top.has("stability_guard") || readStabilityGuard(top["stability_guard"], guard))
     scene.integrator = std::make_unique<StabilityGuard>(std::move(scene.integrator), guard);
 
-  if (top.has("run")) {
-    const YamlEntry run = top["run"];
-    run.expectMap({"frame_time", "duration"});
-    scene.frameTime = run.positive("frame_time", scene.frameTime);
-    scene.duration = run.positive("duration", scene.duration);
-  }
   if (top.has("output")) {
     const YamlEntry out = top["output"];
     out.expectMap({"vtu_every", "csv"});
