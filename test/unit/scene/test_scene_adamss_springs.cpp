@@ -80,8 +80,9 @@ TEST(AdamssSpringScene, EachMalformedEntryNamesFileLineAndKey) {
        "force_models[1].form: expected one of: printed, gradient"},
       {"unknown key", replaced(s, "form: gradient", "shape: gradient"), 11,
        "force_models[1].shape: unknown key"},
-      {"torsion with an implicit integrator",
-       replaced(s, "{type: symplectic_euler, time_step: 1e-5}", "{type: backward_euler}"), 13,
+      {"printed torsion with an implicit integrator",
+       replaced(replaced(s, "{type: symplectic_euler, time_step: 1e-5}", "{type: backward_euler}"),
+                "form: gradient", "form: printed"), 13,
        "backward_euler needs the stiffness of every force model; adamss_torsion_springs provides none"},
   };
   testutil::expectEachSceneFailsClearly(cases, "bad_springs.yaml");
