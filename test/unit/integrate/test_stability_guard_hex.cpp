@@ -7,7 +7,7 @@
 #include <string>
 
 #include "tissue_trainer/core/integrate/stability_guard.h"
-#include "tissue_trainer/core/mesh/quality.h"
+#include "tissue_trainer/core/mesh/corrupt_elements.h"
 #include "tissue_trainer/core/scene/scene.h"
 #include "../scene/scene_test_util.h"
 

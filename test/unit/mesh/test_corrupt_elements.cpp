@@ -10,6 +10,7 @@
 
 #include "tissue_trainer/core/element/hex8.h"
 #include "tissue_trainer/core/mesh/generators.h"
+#include "tissue_trainer/core/mesh/corrupt_elements.h"
 #include "tissue_trainer/core/mesh/quality.h"
 
 namespace tt {

@@ -3,7 +3,7 @@
 // so scenes and nodes use it in place of the one it wraps. Each frame it keeps the state,
 // lets the wrapped integrator advance and checks the result:
 //   finite  every position and velocity is a finite number;
-//   volume  no element is corrupt (CorruptElementCheck in mesh/quality.h): no tet's signed
+//   volume  no element is corrupt (CorruptElementCheck in mesh/corrupt_elements.h): no tet's signed
 //           volume fell to minVolumeRatio of its rest volume or below (inverted or flat), no
 //           hex stopped being a simple polyhedron (a tet of its six- or five-tet split
 //           inverted or flat); only when a model of the system does not tolerate inversion
@@ -69,7 +69,7 @@
 #include <vector>
 
 #include "tissue_trainer/core/integrate/integrator.h"
-#include "tissue_trainer/core/mesh/quality.h"
+#include "tissue_trainer/core/mesh/corrupt_elements.h"
 
 namespace tt {
 
