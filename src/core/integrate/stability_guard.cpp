@@ -236,8 +236,9 @@ std::string StabilityGuard::checkVolumes(const System& system) const {
   const std::vector<CorruptElement> corrupt = corruptCheck_.find(x, params_.minVolumeRatio);
   if (corrupt.empty()) return {};
   const CorruptElement& worst = *std::min_element(
-      corrupt.begin(), corrupt.end(),
-      [](const CorruptElement& a, const CorruptElement& b) { return a.volumeRatio < b.volumeRatio; });
+      corrupt.begin(), corrupt.end(), [](const CorruptElement& a, const CorruptElement& b) {
+        return a.volumeRatio < b.volumeRatio;
+      });
   const std::string element =
       !worst.hex ? "tet " + std::to_string(worst.index)
                  : "hex " + std::to_string(worst.index) + " (tet " +

@@ -298,7 +298,8 @@ std::uint8_t parseAxes(const YamlEntry& e) {
 
 // The keys of a `materials` entry: the common ones and every registered law's own keys.
 std::vector<std::string> materialKeys() {
-  std::vector<std::string> keys{"name", "region", "fibres", "density", "stress_unit", "young_modulus",
+  std::vector<std::string> keys{"name", "region", "fibres", "density", "stress_unit",
+                                "young_modulus",
                                 "poisson_ratio", "young_modulus_longitudinal",
                                 "poisson_ratio_longitudinal", "lambda", "mu",
                                 "lambda_longitudinal", "mu_longitudinal"};

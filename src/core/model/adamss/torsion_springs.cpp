@@ -28,8 +28,10 @@ PairHessian pairHessian(const Eigen::Vector3d& zl, const Eigen::Vector3d& zm, bo
   const Eigen::Vector3d gl = (um - c * ul) / nl, gm = (ul - c * um) / nm;
   const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
   PairHessian h;
-  h.ll = -(ul * gl.transpose() + gl * ul.transpose()) / nl - c * (I - ul * ul.transpose()) / (nl * nl);
-  h.mm = -(um * gm.transpose() + gm * um.transpose()) / nm - c * (I - um * um.transpose()) / (nm * nm);
+  h.ll = -(ul * gl.transpose() + gl * ul.transpose()) / nl -
+         c * (I - ul * ul.transpose()) / (nl * nl);
+  h.mm = -(um * gm.transpose() + gm * um.transpose()) / nm -
+         c * (I - um * um.transpose()) / (nm * nm);
   h.lm = ((I - um * um.transpose()) / nm - ul * gm.transpose()) / nl;
   if (cosine) return h;
   const double sine = std::sqrt(std::max(1.0 - c * c, 1e-300));
@@ -87,8 +89,10 @@ Matrix9d torsionHessian(const TorsionSpringParameters& p, const Eigen::Matrix3d&
     double psi = 0.0, e = 0.0;
     polynomial(p.k[k], s.theta, psi, e);
     const double slope = polynomialSlope(p.k[k], s.theta);
-    H.block<3, 3>(3 * l, 3 * l) += scale * (slope * s.dThetaDl * s.dThetaDl.transpose() + psi * h.ll);
-    H.block<3, 3>(3 * m, 3 * m) += scale * (slope * s.dThetaDm * s.dThetaDm.transpose() + psi * h.mm);
+    H.block<3, 3>(3 * l, 3 * l) +=
+        scale * (slope * s.dThetaDl * s.dThetaDl.transpose() + psi * h.ll);
+    H.block<3, 3>(3 * m, 3 * m) +=
+        scale * (slope * s.dThetaDm * s.dThetaDm.transpose() + psi * h.mm);
     const Eigen::Matrix3d lm = scale * (slope * s.dThetaDl * s.dThetaDm.transpose() + psi * h.lm);
     H.block<3, 3>(3 * l, 3 * m) += lm;
     H.block<3, 3>(3 * m, 3 * l) += lm.transpose();
