@@ -7,19 +7,32 @@
 
 namespace tt {
 
+namespace {
+
+Eigen::Vector3d pathOffset(const PrescribedPath& p, double t) {
+  if (p.times.empty()) return Eigen::Vector3d::Zero();
+  if (t <= p.times.front()) return p.offsets.front();
+  if (t >= p.times.back()) return p.offsets.back();
+  const size_t k = std::upper_bound(p.times.begin(), p.times.end(), t) - p.times.begin();
+  const double s = (t - p.times[k - 1]) / (p.times[k] - p.times[k - 1]);
+  return (1.0 - s) * p.offsets[k - 1] + s * p.offsets[k];
+}
+
+Eigen::Vector3d pathVelocity(const PrescribedPath& p, double t) {
+  if (p.times.size() < 2 || t < p.times.front() || t >= p.times.back())
+    return Eigen::Vector3d::Zero();
+  const size_t k = std::upper_bound(p.times.begin(), p.times.end(), t) - p.times.begin();
+  return (p.offsets[k] - p.offsets[k - 1]) / (p.times[k] - p.times[k - 1]);
+}
+
+}  // namespace
+
 Eigen::Vector3d PrescribedPath::offsetAt(double t) const {
-  if (times.empty()) return Eigen::Vector3d::Zero();
-  if (t <= times.front()) return offsets.front();
-  if (t >= times.back()) return offsets.back();
-  const size_t k = std::upper_bound(times.begin(), times.end(), t) - times.begin();
-  const double s = (t - times[k - 1]) / (times[k] - times[k - 1]);
-  return (1.0 - s) * offsets[k - 1] + s * offsets[k];
+  return pathOffset(*this, t) + velocity * std::max(t, 0.0);
 }
 
 Eigen::Vector3d PrescribedPath::velocityAt(double t) const {
-  if (times.size() < 2 || t < times.front() || t >= times.back()) return Eigen::Vector3d::Zero();
-  const size_t k = std::upper_bound(times.begin(), times.end(), t) - times.begin();
-  return (offsets[k] - offsets[k - 1]) / (times[k] - times[k - 1]);
+  return pathVelocity(*this, t) + (t >= 0.0 ? velocity : Eigen::Vector3d::Zero());
 }
 
 System::System(Mesh m, std::vector<Material> mats)
@@ -113,10 +126,12 @@ void System::prescribe(double t, Eigen::VectorXd& x, Eigen::VectorXd& v) const {
   for (const ControlledSet& set : controlled) {
     const Eigen::Vector3d offset = set.path.offsetAt(t);
     const Eigen::Vector3d velocity = set.path.velocityAt(t);
-    for (int n : set.nodes) {
-      x.segment<3>(3 * n) = mesh.rest.col(n) + offset;
-      v.segment<3>(3 * n) = velocity;
-    }
+    for (int n : set.nodes)
+      for (int axis = 0; axis < 3; ++axis)
+        if (set.axes & (1u << axis)) {
+          x[3 * n + axis] = mesh.rest(axis, n) + offset[axis];
+          v[3 * n + axis] = velocity[axis];
+        }
   }
 }
 
@@ -141,7 +156,8 @@ void System::updateConstraints() {
   for (const ControlledSet& set : controlled)
     for (int node : set.nodes) {
       mesh.nodeTags[node] |= kControlled;
-      for (int axis = 0; axis < 3; ++axis) isConstrained[3 * node + axis] = 1;
+      for (int axis = 0; axis < 3; ++axis)
+        if (set.axes & (1u << axis)) isConstrained[3 * node + axis] = 1;
     }
   constrainedDofs.clear();
   for (int dof = 0; dof < 3 * n; ++dof)

@@ -19,17 +19,22 @@ struct State {
   double t = 0.0;     // s
 };
 
-// Piecewise-linear displacement from the rest position over time (held after the last key).
+// Piecewise-linear displacement from the rest position over time (held after the last key),
+// plus a constant velocity from t = 0 on: offset(t) = path(t) + velocity t.
 struct PrescribedPath {
   std::vector<double> times;               // strictly increasing, s
   std::vector<Eigen::Vector3d> offsets;    // displacement at each time, m
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  // m/s
   Eigen::Vector3d offsetAt(double t) const;
   Eigen::Vector3d velocityAt(double t) const;
 };
 
+// Nodes whose controlled axes follow the path ("Adamss: Advanced Anisotropic Mass-Spring
+// System", Sec. 2.6: control tags per axis); their other axes stay free (or fixed by tags).
 struct ControlledSet {
   std::vector<int> nodes;
   PrescribedPath path;
+  std::uint8_t axes = kFixedAll;  // kFixedX | kFixedY | kFixedZ bits: the controlled axes
 };
 
 class System {

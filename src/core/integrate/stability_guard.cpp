@@ -8,19 +8,9 @@
 #include <limits>
 
 #include "frame_guard.h"
-#include "tissue_trainer/core/element/hex8.h"
 
 namespace tt {
 namespace {
-
-// Signed volume of tet t at positions x (3n), positive for a well-oriented tet.
-double signedVolume(const Eigen::VectorXd& x, const Tet& t) {
-  const Eigen::Vector3d a = x.segment<3>(3 * t[0]);
-  const Eigen::Vector3d d1 = x.segment<3>(3 * t[1]) - a;
-  const Eigen::Vector3d d2 = x.segment<3>(3 * t[2]) - a;
-  const Eigen::Vector3d d3 = x.segment<3>(3 * t[3]) - a;
-  return d1.dot(d2.cross(d3)) / 6.0;
-}
 
 // The share of the carried sums that the next frame keeps: they forget in about 100 frames, so
 // that the energy swing of a stable step does not add up over a session, while a growing mode
@@ -150,15 +140,10 @@ void StabilityGuard::keepDepth(int depth, bool rolledBack) {
 
 void StabilityGuard::prepare(const System& system) {
   const Mesh& mesh = system.mesh;
-  const size_t checked = mesh.tets.size() + 6 * mesh.hexes.size();
-  if (prepared_ != &system || restVolume_.size() != checked) {
-    // The tets, then each hex through the six tets of its split (Hex8::sixTets).
-    checkedTets_ = mesh.tets;
-    for (const Hex& h : mesh.hexes)
-      for (int k = 0; k < 6; ++k) checkedTets_.push_back(Hex8::sixTet(h, k));
-    const Eigen::Map<const Eigen::VectorXd> rest(mesh.rest.data(), mesh.rest.size());
-    restVolume_.resize(checked);
-    for (size_t e = 0; e < checked; ++e) restVolume_[e] = signedVolume(rest, checkedTets_[e]);
+  const std::size_t elements = mesh.tets.size() + mesh.hexes.size();
+  if (prepared_ != &system || preparedElements_ != elements) {
+    corruptCheck_ = CorruptElementCheck(mesh);
+    preparedElements_ = elements;
     prepared_ = &system;
   }
   checkVolumes_ = std::any_of(system.models.begin(), system.models.end(),
@@ -247,28 +232,21 @@ std::string StabilityGuard::checkFinite(const State& s) const {
 }
 
 std::string StabilityGuard::checkVolumes(const System& system) const {
-  const std::vector<Tet>& tets = checkedTets_;
-  int worst = -1, count = 0;
-  double worstRatio = params_.minVolumeRatio;
-  for (size_t e = 0; e < tets.size(); ++e) {
-    if (restVolume_[e] == 0.0) continue;  // degenerate at rest: nothing to compare with
-    const double ratio = signedVolume(system.state.x, tets[e]) / restVolume_[e];
-    if (ratio > params_.minVolumeRatio) continue;
-    ++count;
-    if (worst < 0 || ratio < worstRatio) {
-      worst = static_cast<int>(e);
-      worstRatio = ratio;
-    }
-  }
-  if (worst < 0) return {};
-  const int numTets = system.mesh.numTets();
+  const Eigen::Map<const Eigen::Matrix3Xd> x(system.state.x.data(), 3, system.numNodes());
+  const std::vector<CorruptElement> corrupt = corruptCheck_.find(x, params_.minVolumeRatio);
+  if (corrupt.empty()) return {};
+  const CorruptElement& worst = *std::min_element(
+      corrupt.begin(), corrupt.end(), [](const CorruptElement& a, const CorruptElement& b) {
+        return a.volumeRatio < b.volumeRatio;
+      });
   const std::string element =
-      worst < numTets ? "tet " + std::to_string(worst)
-                      : "hex " + std::to_string((worst - numTets) / 6) + " (tet " +
-                            std::to_string((worst - numTets) % 6) + " of its split)";
-  return element +
-         format(" inverted or flat (volume %.3g of rest, limit %.3g; tets at or below it: %.0f)",
-                worstRatio, params_.minVolumeRatio, count);
+      !worst.hex ? "tet " + std::to_string(worst.index)
+                 : "hex " + std::to_string(worst.index) + " (tet " +
+                       std::to_string(worst.subTet % 6) + " of its " +
+                       (worst.subTet < 6 ? "six" : "five") + "-tet split)";
+  return element + format(" inverted or flat (volume %.3g of rest, limit %.3g; elements at or "
+                          "below it: %.0f)",
+                          worst.volumeRatio, params_.minVolumeRatio, double(corrupt.size()));
 }
 
 void StabilityGuard::addFlows(const System& system) {

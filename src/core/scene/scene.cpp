@@ -12,10 +12,12 @@
 #include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/mesh/mesh_io.h"
+#include "tissue_trainer/core/mesh/node_tags.h"
 #include "tissue_trainer/core/mesh/quality.h"
 #include "tissue_trainer/core/model/gravity.h"
 #include "tissue_trainer/core/scene/registry.h"
 #include "tissue_trainer/core/scene/yaml_reader.h"
+#include "scene_fibres.h"
 
 namespace tt {
 namespace {
@@ -298,7 +300,8 @@ std::uint8_t parseAxes(const YamlEntry& e) {
 
 // The keys of a `materials` entry: the common ones and every registered law's own keys.
 std::vector<std::string> materialKeys() {
-  std::vector<std::string> keys{"name", "region", "density", "stress_unit", "young_modulus",
+  std::vector<std::string> keys{"name", "region", "fibres", "density", "stress_unit",
+                                "young_modulus",
                                 "poisson_ratio", "young_modulus_longitudinal",
                                 "poisson_ratio_longitudinal", "lambda", "mu",
                                 "lambda_longitudinal", "mu_longitudinal"};
@@ -416,58 +419,79 @@ std::vector<Material> assignMaterials(const YamlEntry& list, Mesh& mesh) {
   return materials;
 }
 
-// The fibre, sheet and sheet-normal axes (columns) of a `fibres` entry:
-//   {direction: a0}               a0 completed to a right-handed orthonormal frame;
-//   {direction: a0, sheet: s0}    s0 orthogonal to a0 (to 1e-6), normal a0 x s0;
-//   {angles_deg: [phi, theta]}    the global frame turned by spherical angles ("Adamss:
-//                                 Advanced Anisotropic Mass-Spring System", Sec. 2.8.1): fibre
-//                                 (sin t cos p, sin t sin p, cos t), sheet its derivative in t
-//                                 (cos t cos p, cos t sin p, -sin t), normal fibre x sheet.
-Eigen::Matrix3d fibreFrameOf(const YamlEntry& spec) {
-  spec.expectMap({"direction", "sheet", "angles_deg"});
-  Eigen::Matrix3d frame;
-  if (spec.has("angles_deg")) {
-    if (spec.has("direction") || spec.has("sheet"))
-      spec["angles_deg"].fail("expected either angles_deg or direction (and sheet), not both");
-    const YamlEntry angles = spec["angles_deg"];
-    if (angles.size() != 2) angles.fail("expected a list of 2 angles [phi, theta] in degrees");
-    const double p = angles[0].number() * M_PI / 180.0, t = angles[1].number() * M_PI / 180.0;
-    frame.col(0) << std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t);
-    frame.col(1) << std::cos(t) * std::cos(p), std::cos(t) * std::sin(p), -std::sin(t);
-    frame.col(2) = frame.col(0).cross(frame.col(1));
-    return frame;
-  }
-  Eigen::Vector3d a0 = spec["direction"].vector3();
-  if (a0.norm() == 0.0) spec["direction"].fail("expected a non-zero direction");
-  a0.normalize();
-  Eigen::Vector3d a1;
-  if (spec.has("sheet")) {
-    const YamlEntry sheet = spec["sheet"];
-    a1 = sheet.vector3();
-    if (a1.norm() == 0.0) sheet.fail("expected a non-zero sheet direction");
-    a1.normalize();
-    const double cosine = a1.dot(a0);
-    if (std::abs(cosine) > 1e-6)
-      sheet.fail("expected a sheet direction orthogonal to the fibre direction, got cosine " +
-                 std::to_string(cosine));
-  } else {
-    // Complete a0 to a right-handed orthonormal frame.
-    const Eigen::Vector3d helper =
-        std::abs(a0.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
-    a1 = a0.cross(helper).normalized();
-  }
-  frame << a0, a1, a0.cross(a1);
-  return frame;
+// A motion that has a component along an axis it does not control would be ignored there.
+void checkControlledAxes(const YamlEntry& e, const Eigen::Vector3d& motion, std::uint8_t axes) {
+  for (int axis = 0; axis < 3; ++axis)
+    if (!(axes & (1u << axis)) && motion[axis] != 0.0)
+      e.fail(std::string("expected no motion along ") + "xyz"[axis] +
+             ", which the entry does not control (see axes)");
 }
 
-void applyFibres(const YamlEntry& spec, Mesh& mesh) {
-  const Eigen::Matrix3d frame = fibreFrameOf(spec);
-  mesh.fibreFrame.assign(mesh.numTets(), frame);
-  mesh.hexFibreFrame.assign(mesh.numHexes(), frame);
+// The prescribed motion of controlled axes ("Adamss: Advanced Anisotropic Mass-Spring System",
+// Sec. 2.6): one of path [[t, dx, dy, dz], ...], velocity [vx, vy, vz] (m/s, from t = 0) or
+// step [dx, dy, dz] (m per frame of run.frame_time, the thesis's predefined step per step).
+PrescribedPath readPrescription(const YamlEntry& item, std::uint8_t axes, double frameTime) {
+  const int given = item.has("path") + item.has("velocity") + item.has("step");
+  if (given != 1)
+    item.fail(given == 0 ? "expected one of 'path', 'velocity' or 'step' for the controlled axes"
+                         : "expected only one of 'path', 'velocity' or 'step'");
+  PrescribedPath p;
+  if (item.has("velocity") || item.has("step")) {
+    const YamlEntry e = item[item.has("velocity") ? "velocity" : "step"];
+    p.velocity = e.vector3() / (item.has("step") ? frameTime : 1.0);
+    checkControlledAxes(e, p.velocity, axes);
+    return p;
+  }
+  const YamlEntry path = item["path"];
+  if (path.size() == 0) path.fail("expected at least one [t, dx, dy, dz] key");
+  for (size_t i = 0; i < path.size(); ++i) {
+    const YamlEntry key = path[i];
+    if (key.size() != 4) key.fail("expected [t, dx, dy, dz]");
+    const double t = key[0].number();
+    if (!p.times.empty() && t <= p.times.back()) key[0].fail("expected times in increasing order");
+    p.times.push_back(t);
+    p.offsets.emplace_back(key[1].number(), key[2].number(), key[3].number());
+    checkControlledAxes(key, p.offsets.back(), axes);
+  }
+  return p;
 }
 
-void applyBoundary(const YamlEntry& spec, System& system) {
-  spec.expectMap({"fixed", "controlled"});
+// tags: {file, path | velocity | step}: the fixation and control tags of an index file
+// (readNodeTagFile); its controlled nodes follow the entry's motion, one set per axis mask.
+void applyTagFile(const YamlEntry& spec, const fs::path& sceneDir, double frameTime,
+                  System& system) {
+  spec.expectMap({"file", "path", "velocity", "step"});
+  const YamlEntry fileEntry = spec["file"];
+  fs::path file = fileEntry.text();
+  if (file.is_relative()) file = sceneDir / file;
+  if (!fs::is_regular_file(file)) fileEntry.fail("tag file '" + file.string() + "' not found");
+  const std::vector<NodeTagLine> lines = readNodeTagFile(file.string(), system.numNodes());
+  std::vector<int> byAxes[8];
+  for (const NodeTagLine& tag : lines) {
+    system.mesh.nodeTags[tag.node] |= tag.fixed;
+    if (tag.controlled) byAxes[tag.controlled].push_back(tag.node);
+  }
+  const bool controls = std::any_of(lines.begin(), lines.end(),
+                                    [](const NodeTagLine& t) { return t.controlled != 0; });
+  const bool moves = spec.has("path") || spec.has("velocity") || spec.has("step");
+  if (!controls) {
+    if (moves)
+      spec.fail("the tag file controls no node (X, Y, Z), so nothing reads the motion");
+    return;
+  }
+  for (std::uint8_t axes = 1; axes < 8; ++axes) {
+    if (byAxes[axes].empty()) continue;
+    ControlledSet set;
+    set.nodes = byAxes[axes];
+    set.axes = axes;
+    set.path = readPrescription(spec, kFixedAll, frameTime);
+    system.controlled.push_back(std::move(set));
+  }
+}
+
+void applyBoundary(const YamlEntry& spec, const fs::path& sceneDir, double frameTime,
+                   System& system) {
+  spec.expectMap({"fixed", "controlled", "tags"});
   if (spec.has("fixed")) {
     const YamlEntry list = spec["fixed"];
     for (size_t k = 0; k < list.size(); ++k) {
@@ -481,23 +505,15 @@ void applyBoundary(const YamlEntry& spec, System& system) {
     const YamlEntry list = spec["controlled"];
     for (size_t k = 0; k < list.size(); ++k) {
       const YamlEntry item = list[k];
-      item.expectMap({"box", "plane", "nodes", "path"});
+      item.expectMap({"box", "plane", "nodes", "axes", "path", "velocity", "step"});
       ControlledSet set;
       set.nodes = selectNodes(item, system.mesh);
-      const YamlEntry path = item["path"];
-      if (path.size() == 0) path.fail("expected at least one [t, dx, dy, dz] key");
-      for (size_t i = 0; i < path.size(); ++i) {
-        const YamlEntry key = path[i];
-        if (key.size() != 4) key.fail("expected [t, dx, dy, dz]");
-        const double t = key[0].number();
-        if (!set.path.times.empty() && t <= set.path.times.back())
-          key[0].fail("expected times in increasing order");
-        set.path.times.push_back(t);
-        set.path.offsets.emplace_back(key[1].number(), key[2].number(), key[3].number());
-      }
+      if (item.has("axes")) set.axes = parseAxes(item["axes"]);
+      set.path = readPrescription(item, set.axes, frameTime);
       system.controlled.push_back(std::move(set));
     }
   }
+  if (spec.has("tags")) applyTagFile(spec["tags"], sceneDir, frameTime, system);
   system.updateConstraints();
 }
 
@@ -541,8 +557,9 @@ Scene loadScene(const std::string& path) {
   const fs::path sceneDir = fs::path(path).parent_path();
   Placement placement;
   Mesh mesh = loadMesh(top["mesh"], sceneDir, scene.notes, placement);
-  if (top.has("fibres")) applyFibres(top["fibres"], mesh);
+  if (top.has("fibres")) applySceneFibres(top["fibres"], sceneDir, placement.rotation, mesh);
   std::vector<Material> materials = assignMaterials(top["materials"], mesh);
+  applyMaterialFibres(top["materials"], mesh);
   scene.system = System(std::move(mesh), std::move(materials));
   System& system = scene.system;
 
@@ -560,7 +577,13 @@ Scene loadScene(const std::string& path) {
       break;
     }
   if (top.has("loads")) applyLoads(top["loads"], system);
-  if (top.has("boundary")) applyBoundary(top["boundary"], system);
+  if (top.has("run")) {
+    const YamlEntry run = top["run"];
+    run.expectMap({"frame_time", "duration"});
+    scene.frameTime = run.positive("frame_time", scene.frameTime);
+    scene.duration = run.positive("duration", scene.duration);
+  }
+  if (top.has("boundary")) applyBoundary(top["boundary"], sceneDir, scene.frameTime, system);
   system.prescribe(0.0, system.state.x, system.state.v);
 
   const YamlEntry integrator = top["integrator"];
@@ -577,12 +600,6 @@ Scene loadScene(const std::string& path) {
   if (!top.has("stability_guard") || readStabilityGuard(top["stability_guard"], guard))
     scene.integrator = std::make_unique<StabilityGuard>(std::move(scene.integrator), guard);
 
-  if (top.has("run")) {
-    const YamlEntry run = top["run"];
-    run.expectMap({"frame_time", "duration"});
-    scene.frameTime = run.positive("frame_time", scene.frameTime);
-    scene.duration = run.positive("duration", scene.duration);
-  }
   if (top.has("output")) {
     const YamlEntry out = top["output"];
     out.expectMap({"vtu_every", "csv"});

@@ -3,8 +3,10 @@
 // so scenes and nodes use it in place of the one it wraps. Each frame it keeps the state,
 // lets the wrapped integrator advance and checks the result:
 //   finite  every position and velocity is a finite number;
-//   volume  no tet's signed volume fell to minVolumeRatio of its rest volume or below
-//           (inverted or flat); only when a model of the system does not tolerate inversion
+//   volume  no element is corrupt (CorruptElementCheck in mesh/corrupt_elements.h): no tet's signed
+//           volume fell to minVolumeRatio of its rest volume or below (inverted or flat), no
+//           hex stopped being a simple polyhedron (a tet of its six- or five-tet split
+//           inverted or flat); only when a model of the system does not tolerate inversion
 //           (ForceModel::toleratesInversion);
 //   energy  the energy balance below stays within its budget.
 // A frame that fails a check (or that the wrapped integrator reports failed) is rolled back
@@ -67,6 +69,7 @@
 #include <vector>
 
 #include "tissue_trainer/core/integrate/integrator.h"
+#include "tissue_trainer/core/mesh/corrupt_elements.h"
 
 namespace tt {
 
@@ -156,8 +159,8 @@ class StabilityGuard : public Integrator {
   StabilityGuardParams params_;
   GuardStats stats_;
   const System* prepared_ = nullptr;
-  std::vector<Tet> checkedTets_;    // the mesh's tets, then the six-tet split of each hex
-  std::vector<double> restVolume_;  // per checked tet
+  CorruptElementCheck corruptCheck_;  // the mesh's tets, and each hex through its splits
+  std::size_t preparedElements_ = 0;  // tets + hexes when corruptCheck_ was built
   bool checkVolumes_ = false;
   int startDepth_ = 0;  // the next frame's first attempt takes 2^startDepth_ pieces
   int calmFrames_ = 0;  // frames passed at once since startDepth_ last changed

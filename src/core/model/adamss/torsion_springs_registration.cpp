@@ -9,7 +9,7 @@ void registerTorsionSpringModel(Registry& registry) {
   ForceModelEntry e;
   e.name = "adamss_torsion_springs";
   e.description = "Adamss springs on the angles between each element's axes (Eqs. 2.40-2.55); "
-                  "no stiffness (explicit integrators)";
+                  "stiffness in the gradient form only (the printed form: explicit integrators)";
   e.keys = {{"stiffness",
              "required: three lists (pairs fibre-sheet, fibre-normal, sheet-normal) of 1 to 3 "
              "coefficients k_1.. of orders 1..3"},

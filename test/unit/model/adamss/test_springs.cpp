@@ -129,6 +129,36 @@ TEST(AdamssSprings, GradientTorsionForceIsTheEnergyGradientWithNoNetForceOrMomen
       }
 }
 
+// The gradient form's analytic stiffness (the Hessian of the energy in the axes, Eq. 2.29 to
+// the nodes) against the finite-difference Jacobian of the force, K d against K, symmetry; the
+// printed form has none.
+TEST(AdamssSprings, GradientTorsionStiffnessIsTheForceDerivative) {
+  std::mt19937 rng(24);
+  const Mesh tets = boxMesh(2, 2, 1, 0.01, rng, 0.15);
+  const Mesh hexes = jitteredHexes(rng);
+  for (const Mesh* mesh : {&tets, &hexes})
+    for (bool cosine : {false, true})
+      for (bool area : {false, true}) {
+        SCOPED_TRACE(std::string(mesh->hexes.empty() ? "tets" : "hexes") +
+                     (cosine ? ", cosine" : ", angle") + (area ? ", area" : ""));
+        const TorsionSpringModel model(*mesh, cubicTorsion(cosine, true, area));
+        ASSERT_TRUE(model.hasStiffness());
+        const Eigen::VectorXd x = perturbed(*mesh, 8e-4, rng);
+        const Eigen::MatrixXd K = denseStiffness(model, *mesh, x);
+        EXPECT_LT(relDiff(K, fdForceJacobian(model, x, 1e-8)), 1e-6);
+        EXPECT_LT(relDiff(Eigen::MatrixXd(K.transpose()), K), 1e-12);
+        const Eigen::VectorXd d = perturbed(*mesh, 1.0, rng) - restVector(*mesh);
+        Eigen::VectorXd Kd = Eigen::VectorXd::Zero(x.size());
+        model.addStiffnessTimes(x, d, 1.0, Kd);
+        EXPECT_LT(relDiff(Kd, Eigen::VectorXd(K * d)), 1e-12);
+        // At rest the forces vanish: K is psi' grad theta grad theta^T, positive semi-definite.
+        const Eigen::MatrixXd K0 = denseStiffness(model, *mesh, restVector(*mesh));
+        EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(-K0).eigenvalues().minCoeff(),
+                  -1e-9 * K0.norm());
+      }
+  EXPECT_FALSE(TorsionSpringModel(tets, cubicTorsion(false, false, false)).hasStiffness());
+}
+
 // The printed torsion forces of one pair put -psi (|zeta_l| - |zeta_m|) zeta_hat_l x zeta_hat_m
 // of moment on the element (the moment of the point forces: the distribution keeps it).
 TEST(AdamssSprings, PrintedTorsionForcesHaveTheClosedFormMoment) {

@@ -16,7 +16,8 @@
 //   gradient: the forces of the energy E = s sum_i k_lm,i theta^(i+1) / (i + 1), with s = 1 (k
 //     in J) or, in the area form, s = V0 (k in Pa: an energy density, like a shear modulus).
 //     No net force or moment.
-// Neither has a stiffness here: explicit integrators only.
+// The gradient form has its analytic stiffness (the Hessian of E in the axes, carried to the
+// nodes by Eq. 2.29), so implicit integrators accept it; the printed form has none.
 #include <array>
 
 #include "tissue_trainer/core/model/adamss/axis_spring_elements.h"
@@ -46,6 +47,12 @@ class TorsionSpringModel final : public ForceModel {
                   Eigen::VectorXd& f) const override;
   double energy(const Eigen::VectorXd& x) const override;
   bool hasEnergy() const override { return parameters_.gradient; }
+  bool hasStiffness() const override { return parameters_.gradient; }
+  void addStiffness(const Eigen::VectorXd& x, double scale, const SparsePattern& pattern,
+                    SparseMatrix& K) const override;
+  bool hasStiffnessProduct() const override { return parameters_.gradient; }
+  void addStiffnessTimes(const Eigen::VectorXd& x, const Eigen::VectorXd& d, double scale,
+                         Eigen::VectorXd& out) const override;
 
  private:
   AxisSpringElements elements_;
