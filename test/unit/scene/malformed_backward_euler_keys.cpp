@@ -44,11 +44,13 @@ std::string withKeys(const std::string& keys) {
   return replaced(kScene, "  type: backward_euler\n", "  type: backward_euler\n" + keys);
 }
 
-const BackwardEulerParams& paramsOf(const Scene& scene) {
+const BackwardEulerIntegrator& integratorOf(const Scene& scene) {
   const auto* be = dynamic_cast<const BackwardEulerIntegrator*>(scene.integrator.get());
   EXPECT_NE(be, nullptr);
-  return be->params;
+  return *be;
 }
+
+const BackwardEulerParams& paramsOf(const Scene& scene) { return integratorOf(scene).params; }
 
 TEST(BackwardEulerKeys, ReachTheIntegrator) {
   using Params = BackwardEulerParams;
@@ -78,7 +80,7 @@ TEST(BackwardEulerKeys, ReachTheIntegrator) {
   EXPECT_EQ(p.finiteDifference.epsilon, 1e-7);
   EXPECT_EQ(p.finiteDifference.positionScale, 0.5);
   EXPECT_EQ(p.finiteDifference.velocityScale, 2.0);
-  EXPECT_STREQ(scene.integrator->stepControl().name(), "halving_doubling");
+  EXPECT_STREQ(integratorOf(scene).stepControl().name(), "halving_doubling");
 
   const Scene bicg = loadScene(writeScene("be_bicg.yaml", withKeys("  linear_solver: bicgstab\n")));
   EXPECT_EQ(paramsOf(bicg).linearSolver, Params::LinearSolver::kBiCgStab);
