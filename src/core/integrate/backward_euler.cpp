@@ -148,8 +148,7 @@ void BackwardEulerIntegrator::considerRefactor(int iterations, bool lostCurvatur
 int BackwardEulerIntegrator::solveUnit(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   using LinearSolver = BackwardEulerParams::LinearSolver;
   const Preconditioner& M = choosePreconditioner();
-  const SolveSettings settings{params.linearTolerance, params.linearMaxIterations,
-                               params.gmresRestart};
+  const SolveSettings settings = solveSettings();
   const MatrixOperator A(A_);
   switch (params.linearSolver) {
     case LinearSolver::kGmres: return finishSolve(gmres(A, b, x, M, settings, krylov_), 0, false);
@@ -164,8 +163,7 @@ int BackwardEulerIntegrator::solveUnit(const Eigen::VectorXd& b, Eigen::VectorXd
 // indefinite); where CG meets non-positive curvature, BiCGSTAB from the same guess.
 int BackwardEulerIntegrator::solvePcg(const Preconditioner& M, const Eigen::VectorXd& b,
                                       Eigen::VectorXd& x) {
-  const SolveSettings settings{params.linearTolerance, params.linearMaxIterations,
-                               params.gmresRestart};
+  const SolveSettings settings = solveSettings();
   const MatrixOperator A(A_);
   guess_ = x;
   SolveReport report;
@@ -208,7 +206,8 @@ HalvingDoublingParams iterationStepControl(const BackwardEulerParams& params) {
 namespace {
 
 std::unique_ptr<StepSizeController> stepControlOf(const BackwardEulerParams& params) {
-  if (params.adaptive) return std::make_unique<HalvingDoublingControl>(iterationStepControl(params));
+  if (params.adaptive)
+    return std::make_unique<HalvingDoublingControl>(iterationStepControl(params));
   return std::make_unique<FixedStepControl>(FixedStepControl::ofCount(params.substeps));
 }
 

@@ -146,6 +146,9 @@ class BackwardEulerIntegrator : public SteppedIntegrator {
   int solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
   int solveUnit(const Eigen::VectorXd& b, Eigen::VectorXd& x);  // max |b_i| = 1
   int solvePcg(const Preconditioner& M, const Eigen::VectorXd& b, Eigen::VectorXd& x);
+  SolveSettings solveSettings() const {
+    return {params.linearTolerance, params.linearMaxIterations, params.gmresRestart};
+  }
   // With Cholesky or AMG and none installed: builds it from A_ now, or from the rest shape's
   // matrix when A_ is refused (constrained as A_ is).
   void ensureFactor(const System& system, double h);
