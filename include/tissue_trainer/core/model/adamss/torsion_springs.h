@@ -16,7 +16,8 @@
 //   gradient: the forces of the energy E = s sum_i k_lm,i theta^(i+1) / (i + 1), with s = 1 (k
 //     in J) or, in the area form, s = V0 (k in Pa: an energy density, like a shear modulus).
 //     No net force or moment.
-// Neither has a stiffness here: explicit integrators only.
+// Neither has a stiffness here: explicit integrators, or implicit ones with finite-difference
+// Jacobians.
 #include <array>
 
 #include "tissue_trainer/core/model/adamss/axis_spring_elements.h"
