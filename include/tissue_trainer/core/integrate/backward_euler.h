@@ -64,7 +64,7 @@ struct BackwardEulerParams {
   int substeps = 1;               // equal substeps per frame (read when constructed)
   double linearTolerance = 1e-8;  // relative residual |b - A dv| / |b|
   int linearMaxIterations = 500;
-  int newtonIterations = 1;       // 1: the seed's linearised step; > 1: full Newton
+  int newtonIterations = 1;       // 1: the chapter's linearised step; > 1: full Newton
   double newtonTolerance = 1e-6;  // relative residual of the implicit equations
   bool requireConvergence = false;  // Newton not converged: restore the frame, ok = false
   bool warmStart = true;
