@@ -20,7 +20,11 @@ double freeNorm(const System& system, Eigen::VectorXd r) {
 void BackwardEulerIntegrator::buildMatrix(const System& system, double h,
                                           const Eigen::VectorXd& x, const Eigen::VectorXd& v,
                                           SparseMatrix& A) {
-  system.assembleStiffness(x, A, -h * h);  // in place: no copy of K
+  const bool differences = finiteDifferences();
+  if (differences)
+    differenceJacobians(system, h, x, v, A);
+  else
+    system.assembleStiffness(x, A, -h * h);  // in place: no copy of K
   if (diagonal_.size() != static_cast<size_t>(A.rows())) {
     diagonal_.assign(A.rows(), -1);
     for (int row = 0; row < A.outerSize(); ++row)
@@ -29,11 +33,36 @@ void BackwardEulerIntegrator::buildMatrix(const System& system, double h,
   }
   double* a = A.valuePtr();
   for (int row = 0; row < A.rows(); ++row)
-    a[diagonal_[row]] += system.mass[row] + h * system.damping[row];
-  if (!system.hasVelocityJacobian()) return;
-  system.assembleVelocityJacobian(x, v, C_);
+    a[diagonal_[row]] += system.mass[row] + (differences ? 0.0 : h * system.damping[row]);
+  if (!differences) {
+    if (!system.hasVelocityJacobian()) return;
+    system.assembleVelocityJacobian(x, v, C_);
+  }
   const double* c = C_.valuePtr();  // the same pattern as A
   for (Eigen::Index i = 0; i < C_.nonZeros(); ++i) a[i] -= h * c[i];
+}
+
+void BackwardEulerIntegrator::differenceJacobians(const System& system, double h,
+                                                  const Eigen::VectorXd& x,
+                                                  const Eigen::VectorXd& v, SparseMatrix& A) {
+  if (!differences_ || !differences_->matches(system))
+    differences_ = std::make_unique<FiniteDifferenceJacobian>(system, params.finiteDifference);
+  system.computeForce(x, v, differenceForce_);
+  differences_->positions(system, x, v, differenceForce_, -h * h, A);
+  differences_->velocities(system, x, v, differenceForce_, 1.0, C_);
+  ++diagnostics_.jacobianForceEvaluations;  // differenceForce_
+  diagnostics_.jacobianForceEvaluations += 2 * differences_->groups();
+}
+
+void BackwardEulerIntegrator::velocityTermTimes(const System& system, double h,
+                                                const Eigen::VectorXd& v,
+                                                Eigen::VectorXd& out) const {
+  if (finiteDifferences()) {
+    out.noalias() = -h * (C_ * v);
+    return;
+  }
+  out = h * system.damping.cwiseProduct(v);
+  if (system.hasVelocityJacobian()) out.noalias() -= h * (C_ * v);
 }
 
 int BackwardEulerIntegrator::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
@@ -116,11 +145,25 @@ void BackwardEulerIntegrator::considerRefactor(int iterations, bool lostCurvatur
   noteRefusals();
 }
 
+int BackwardEulerIntegrator::solveUnit(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  using LinearSolver = BackwardEulerParams::LinearSolver;
+  const Preconditioner& M = choosePreconditioner();
+  const SolveSettings settings = solveSettings();
+  const MatrixOperator A(A_);
+  switch (params.linearSolver) {
+    case LinearSolver::kGmres: return finishSolve(gmres(A, b, x, M, settings, krylov_), 0, false);
+    case LinearSolver::kBiCgStab:
+      return finishSolve(biCgStab(A, b, x, M, settings, krylov_), 0, false);
+    case LinearSolver::kPcg: break;
+  }
+  return solvePcg(M, b, x);
+}
+
 // Preconditioned CG (A is symmetric positive definite unless the stiffness has turned
 // indefinite); where CG meets non-positive curvature, BiCGSTAB from the same guess.
-int BackwardEulerIntegrator::solveUnit(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
-  const Preconditioner& M = choosePreconditioner();
-  const SolveSettings settings{params.linearTolerance, params.linearMaxIterations, 30};
+int BackwardEulerIntegrator::solvePcg(const Preconditioner& M, const Eigen::VectorXd& b,
+                                      Eigen::VectorXd& x) {
+  const SolveSettings settings = solveSettings();
   const MatrixOperator A(A_);
   guess_ = x;
   SolveReport report;
@@ -145,14 +188,41 @@ int BackwardEulerIntegrator::finishSolve(const SolveReport& report, int earlierI
   return diagnostics_.lastIterations;
 }
 
+HalvingDoublingParams iterationStepControl(const BackwardEulerParams& params) {
+  HalvingDoublingParams c;
+  c.quantity = HalvingDoublingParams::Quantity::kIterations;
+  c.lower = params.lowerIterations;
+  // The controller halves above `upper`; the chapter halves when the count reaches the upper
+  // limit, which for whole counts is above upperIterations - 1/2.
+  c.upper = params.upperIterations - 0.5;
+  c.rejectAboveUpper = true;
+  c.keepAtMinStep = true;
+  c.initialStep = params.initialStep;
+  c.minStep = params.minStep;
+  c.maxStep = params.maxStep;
+  return c;
+}
+
+namespace {
+
+std::unique_ptr<StepSizeController> stepControlOf(const BackwardEulerParams& params) {
+  if (params.adaptive)
+    return std::make_unique<HalvingDoublingControl>(iterationStepControl(params));
+  return std::make_unique<FixedStepControl>(FixedStepControl::ofCount(params.substeps));
+}
+
+}  // namespace
+
 BackwardEulerIntegrator::BackwardEulerIntegrator(BackwardEulerParams params)
-    : SteppedIntegrator(
-          std::make_unique<FixedStepControl>(FixedStepControl::ofCount(params.substeps))),
-      params(params) {}
+    : BackwardEulerIntegrator(params, stepControlOf(params)) {}
+
+BackwardEulerIntegrator::BackwardEulerIntegrator(BackwardEulerParams params,
+                                                 std::unique_ptr<StepSizeController> control)
+    : SteppedIntegrator(std::move(control)), params(params) {}
 
 FrameStart BackwardEulerIntegrator::beginFrame(System& system, double) {
   FrameStart start;
-  if (!system.hasStiffness())
+  if (needsStiffness() && !system.hasStiffness())
     start.failure = "backward_euler: every force model must provide its stiffness";
   return start;
 }
@@ -182,10 +252,11 @@ StepAttempt BackwardEulerIntegrator::attempt(System& system, const StepContext& 
   for (int dof : system.constrainedDofs)
     constrainedDv_[dof] = (targetX_[dof] - s.x[dof]) / h - s.v[dof];
 
-  // h (f + h K v), with h^2 K v = (M + h c - h D) v - A v read off the unconstrained A.
-  rhs_.noalias() = A_ * s.v;
-  rhs_ = h * f_ + (system.mass + h * system.damping).cwiseProduct(s.v) - rhs_;
-  if (system.hasVelocityJacobian()) rhs_.noalias() -= h * (C_ * s.v);
+  // h (f + h K v), with h^2 K v = (M + V) v - A v read off the unconstrained A, V its velocity
+  // part.
+  velocityTermTimes(system, h, s.v, rhs_);
+  rhs_ += h * f_ + system.mass.cwiseProduct(s.v);
+  rhs_.noalias() -= A_ * s.v;
   // Only moving constrained DOFs (controlled nodes) couple into the free ones.
   if (constrainedDv_.lpNorm<Eigen::Infinity>() > 0.0) rhs_.noalias() -= A_ * constrainedDv_;
   for (int dof : system.constrainedDofs) rhs_[dof] = constrainedDv_[dof];
@@ -197,6 +268,8 @@ StepAttempt BackwardEulerIntegrator::attempt(System& system, const StepContext& 
   system.constrainMatrix(A_);
   ensureFactor(system, h);
   if (!params.warmStart || dv_.size() != n) dv_.setZero(n);
+  else if (lastStep_ > 0.0 && h != lastStep_) dv_ *= h / lastStep_;  // dv grows with h
+  lastStep_ = h;
   for (int dof : system.constrainedDofs) dv_[dof] = constrainedDv_[dof];
   report.linearIterations += solve(rhs_, dv_);
   int solves = 1;

@@ -106,15 +106,20 @@ double HalvingDoublingControl::measured(const StepMeasure& m) const {
                                                                      : m.iterations;
 }
 
-bool HalvingDoublingControl::keeps(double, const StepMeasure& m) const {
+bool HalvingDoublingControl::keeps(double h, const StepMeasure& m) const {
+  if (params_.keepAtMinStep && h <= params_.minStep * (1.0 + 1e-9)) return true;
   return !(params_.rejectAboveUpper && !(measured(m) <= params_.upper));
+}
+
+double HalvingDoublingControl::halved(double h) const {
+  return params_.keepAtMinStep ? std::max(0.5 * h, params_.minStep) : 0.5 * h;
 }
 
 double HalvingDoublingControl::afterKeep(double h, const StepMeasure& m, bool) {
   const double q = measured(m);
   // A doubling the method cannot take (its history is too short) waits.
   if (q <= params_.lower) return 2.0 * h <= m.nextStepCap * (1.0 + 1e-9) ? 2.0 * h : h;
-  if (q > params_.upper) return 0.5 * h;
+  if (q > params_.upper) return halved(h);
   return h;
 }
 

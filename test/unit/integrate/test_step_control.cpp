@@ -287,6 +287,38 @@ TEST(HalvingDoublingControl, IterationCountsHalveAboveTheUpperLimitWithoutRedoin
   EXPECT_DOUBLE_EQ(method.attempts[2].h, 0.01);
 }
 
+// keepAtMinStep (backward Euler's iteration control): a step at minStep is kept whatever it
+// measured, no halving goes below minStep (3 ms halves to 2, not 1.5), and the frame goes on
+// where without it the step would underflow.
+TEST(HalvingDoublingControl, KeepAtMinStepKeepsTheShortestStepInsteadOfFailing) {
+  System s = harmonic(0.0).build();
+  HalvingDoublingParams p;
+  p.quantity = HalvingDoublingParams::Quantity::kIterations;
+  p.lower = 2;
+  p.upper = 10;
+  p.initialStep = 0.003;
+  p.minStep = 0.002;
+  p.keepAtMinStep = true;
+  Scripted method(std::make_unique<HalvingDoublingControl>(p));
+  method.rule = [](const StepContext&) { return withIterations(50); };
+  const StepReport r = method.advance(s, 0.01);
+  ASSERT_TRUE(r.ok) << r.failure;
+  EXPECT_EQ(r.rejected, 1);
+  EXPECT_EQ(r.substeps, 5);
+  ASSERT_GE(method.attempts.size(), 2u);
+  EXPECT_DOUBLE_EQ(method.attempts[1].h, 0.002);
+  for (size_t k = 1; k < method.attempts.size(); ++k)
+    EXPECT_NEAR(method.attempts[k].h, 0.002, 1e-15) << k;
+  EXPECT_NEAR(s.state.t, 0.01, 1e-15);
+
+  p.keepAtMinStep = false;
+  Scripted failing(std::make_unique<HalvingDoublingControl>(p));
+  failing.rule = method.rule;
+  const StepReport f = failing.advance(s, 0.01);
+  EXPECT_FALSE(f.ok);
+  EXPECT_NE(f.failure.find("step size underflow"), std::string::npos) << f.failure;
+}
+
 TEST(ErrorStepControl, ProposalsFollowTheErrorWithinTheGrowthAndShrinkLimits) {
   ErrorStepParams p;
   p.estimatorOrder = 3;

@@ -134,6 +134,10 @@ struct HalvingDoublingParams {
   double upper = 1.0;  // above: the step is halved (and redone if rejectAboveUpper)
   bool rejectAboveUpper = true;
   double initialStep = 1e-3, minStep = 1e-12, maxStep = 1e30;  // s
+  // True: a step at minStep is kept whatever it measured and no proposal falls below minStep
+  // (a method whose measure says "costly", not "wrong"); false: a halving below minStep fails
+  // the frame.
+  bool keepAtMinStep = false;
 };
 
 class HalvingDoublingControl : public StepSizeController {
@@ -149,10 +153,11 @@ class HalvingDoublingControl : public StepSizeController {
   double initialStep() const override { return params_.initialStep; }
   bool keeps(double h, const StepMeasure& m) const override;
   double afterKeep(double h, const StepMeasure& m, bool lastInFrame) override;
-  double afterReject(double h, const StepMeasure&) override { return 0.5 * h; }
+  double afterReject(double h, const StepMeasure&) override { return halved(h); }
 
  private:
   double measured(const StepMeasure& m) const;
+  double halved(double h) const;
   HalvingDoublingParams params_;
 };
 

@@ -16,7 +16,8 @@ void registerVirtualHexahedronModel(Registry& registry) {
             {"deformation_gradient",
              "shape_functions (default; exact on tets, the centre of hexes) or "
              "axis_approximation (from axis stretches and angles, Adamss Eqs. 2.59-2.62: "
-             "approximate, no stiffness, explicit integrators only)"}};
+             "approximate, no stiffness: explicit integrators, or implicit ones with "
+             "finite-difference Jacobians)"}};
   for (KeyDoc& key : lawOptionKeys()) e.keys.push_back(std::move(key));
   e.presets = {
       {"virtual_hexahedron_hunter_polynomial", "{law: hunter_polynomial}",

@@ -17,7 +17,8 @@
 //     in J) or, in the area form, s = V0 (k in Pa: an energy density, like a shear modulus).
 //     No net force or moment.
 // The gradient form has its analytic stiffness (the Hessian of E in the axes, carried to the
-// nodes by Eq. 2.29), so implicit integrators accept it; the printed form has none.
+// nodes by Eq. 2.29), so implicit integrators accept it; the printed form has none: explicit
+// integrators, or implicit ones with finite-difference Jacobians.
 #include <array>
 
 #include "tissue_trainer/core/model/adamss/axis_spring_elements.h"

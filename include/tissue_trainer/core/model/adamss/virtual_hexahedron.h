@@ -29,7 +29,8 @@
 // It is exact for stretches along the axes and for symmetric shears with equal axis stretches,
 // and approximate otherwise, also when one axis stays orthogonal to the others (a 30 % simple
 // shear is off by about 1e-2 in C = F^T F). It needs orthonormal rest axes, has no stiffness
-// (explicit integrators only), and its energy V0 W(F) is not the potential of its force.
+// (explicit integrators, or implicit ones with finite-difference Jacobians), and its energy
+// V0 W(F) is not the potential of its force.
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <stdexcept>
