@@ -428,8 +428,9 @@ int stepsFlag(const Arguments& args) {
   return static_cast<int>(n);
 }
 
-// The scene's specimen for a material test: its elastic models only (body loads such as
-// gravity and the external force are left out) and, when its integrator is quasistatic, that
+// The scene's specimen for a material test: its force models without the body loads (gravity)
+// and without the external force, time curves (active tension, cavity pressure) held at their
+// value at t = 0 (no step updates are made), and, when its integrator is quasistatic, that
 // integrator's solver settings.
 struct Specimen {
   tt::Scene scene;

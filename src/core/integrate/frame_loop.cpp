@@ -68,7 +68,7 @@ StepReport SteppedIntegrator::advance(System& system, double frameTime) {
       step.end = detail::substepEnd(tStart, frameTime, kept, equalSteps);
     }
 
-    system.beginStep(step.t);
+    system.beginStep(stepUpdateTime(step));
     const StepAttempt result = attempt(system, step, report);
     if (result.status == StepStatus::kFailed) return fail(result.failure);
     if (result.status == StepStatus::kNotConverged) {

@@ -15,8 +15,8 @@ FrameStart QuasistaticIntegrator::beginFrame(System& system, double) {
 
 StepAttempt QuasistaticIntegrator::attempt(System& system, const StepContext& step,
                                            StepReport& report) {
-  // The equilibrium is that of the step's end: boundary positions and time-dependent loads.
-  system.beginStep(step.end);
+  // The equilibrium is that of the step's end: boundary positions here, time-dependent loads
+  // through stepUpdateTime.
   x_ = system.state.x;
   v_ = system.state.v;
   system.prescribe(step.end, x_, v_);

@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "tissue_trainer/core/integrate/explicit_euler.h"
+#include "tissue_trainer/core/integrate/quasistatic.h"
+#include "tissue_trainer/core/scene/registry.h"
 #include "oscillators.h"
 
 namespace tt {
@@ -25,6 +27,8 @@ class StepTimeForce : public ForceModel {
   }
   double energy(const Eigen::VectorXd&) const override { return 0.0; }
   bool hasEnergy() const override { return false; }
+  // A uniform force has no position derivative.
+  bool hasStiffness() const override { return true; }
   bool needsStepUpdates() const override { return wantsUpdates_; }
   void beginStep(double t, const Eigen::VectorXd& x, const Eigen::VectorXd&) override {
     magnitude_ = t;
@@ -77,6 +81,23 @@ TEST(StepUpdates, ModelsThatDoNotAskAreNotCalled) {
   ASSERT_TRUE(integrator.advance(s, 0.05).ok);
   EXPECT_TRUE(model.times.empty());
   EXPECT_EQ(s.state.v[0], 0.0);  // the magnitude stayed at its initial 0
+}
+
+// The quasistatic solve finds the state at a frame's end, so its loads are updated once per
+// frame with the end time, not also with the start.
+TEST(StepUpdates, QuasistaticUpdatesOncePerFrameAtItsEnd) {
+  auto owned = std::make_unique<StepTimeForce>(true);
+  StepTimeForce& model = *owned;
+  System s = freeTet(std::move(owned));
+  for (int n = 0; n < 3; ++n) s.mesh.nodeTags[n] = kFixedAll;
+  s.models.push_back(makeElasticModel("tensor_mass", s.mesh, s.materials));
+  s.updateConstraints();
+  QuasistaticIntegrator integrator;
+  for (int frame = 0; frame < 3; ++frame) ASSERT_TRUE(integrator.advance(s, 0.05).ok);
+  ASSERT_EQ(model.times.size(), 3u);
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(model.times[i], 0.05 * (i + 1), 1e-12) << "frame " << i;
+  // Equilibrium of the free node under the last frame's load: it moved along +x.
+  EXPECT_GT(s.state.x[9], s.mesh.rest(0, 3));
 }
 
 }  // namespace

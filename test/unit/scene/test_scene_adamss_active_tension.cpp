@@ -11,7 +11,6 @@
 namespace tt {
 namespace {
 
-// Line numbers in malformed_active_tension_scene.cpp refer to this text.
 const char* const kActiveScene = R"(name: active_box
 mesh: {generator: box, nodes: [3, 2, 2], size: [0.02, 0.01, 0.01], split: six_mirrored}
 materials:

@@ -26,6 +26,8 @@ class QuasistaticIntegrator : public SteppedIntegrator {
   FrameStart beginFrame(System& system, double frameTime) override;
   StepAttempt attempt(System& system, const StepContext& step, StepReport& report) override;
   std::string accept(System& system, const StepContext& step) override;
+  // Time-dependent loads are those of the step's end, where the equilibrium is solved.
+  double stepUpdateTime(const StepContext& step) const override { return step.end; }
 
   EquilibriumSolver solver_;
   EquilibriumReport last_;

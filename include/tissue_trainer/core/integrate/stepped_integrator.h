@@ -62,6 +62,10 @@ class SteppedIntegrator : public Integrator {
   virtual void abandonFrame(const System& /*system*/) {}
   // Added to the message for a non-finite state ("; explicit limit ..."), or "".
   virtual std::string instabilityHint() const { return ""; }
+  // The time at which the models that need it are updated before a step
+  // (ForceModel::beginStep): the step's start, or its end for methods that solve for the
+  // state at the end alone (the quasistatic solve).
+  virtual double stepUpdateTime(const StepContext& step) const { return step.t; }
 
  private:
   std::unique_ptr<StepSizeController> control_;

@@ -53,9 +53,10 @@ class ForceModel {
 
   // Models whose forces change with time or adapt between steps (a time curve of active
   // tension, a cavity pressure, an adaptive spring) answer true; the frame loop then calls
-  // beginStep before every step attempt with the time, positions and velocities at the step's
-  // start, and the step's forces are those of that time. A rejected step is attempted again
-  // from the same start, so beginStep must give the same result when called twice with it.
+  // beginStep once before every step attempt with the positions and velocities at the step's
+  // start and the time of the step's forces (its start; its end for the quasistatic solve).
+  // A rejected step is attempted again from the same start, so beginStep must give the same
+  // result when called twice with it.
   virtual bool needsStepUpdates() const { return false; }
   virtual void beginStep(double /*t*/, const Eigen::VectorXd& /*x*/,
                          const Eigen::VectorXd& /*v*/) {}
