@@ -17,12 +17,7 @@ using testutil::replaced;
 using testutil::writeScene;
 
 TEST(MalformedNodeTags, EachBadLineIsOneLineNamingFileAndLine) {
-  const struct {
-    const char* what;
-    std::string text;
-    long line;
-    const char* phrase;
-  } cases[] = {
+  const std::vector<BadScene> cases = {
       {"three tokens", "0 xyz\n1 x y\n", 2, "expected 'node tags' such as '12 xy' or '40 xyZ' (2 values), got 3 values"},
       {"node alone", "# tags\n\n5\n", 3, "expected 'node tags'"},
       {"unknown letter", "0 xyz\n1 xw\n", 2, "unknown tag 'w' (expected x, y, z to fix an axis and X, Y, Z to control it)"},
@@ -31,19 +26,8 @@ TEST(MalformedNodeTags, EachBadLineIsOneLineNamingFileAndLine) {
       {"negative node", "-1 z\n", 1, "expected a node index in [0, 7]"},
       {"not an integer", "1.5 z\n", 1, "expected a node index (an integer), got '1.5'"},
   };
-  for (const auto& c : cases) {
-    const std::string path = writeScene("bad_tags.txt", c.text);
-    try {
-      readNodeTagFile(path, 8);
-      ADD_FAILURE() << c.what << ": no error";
-    } catch (const InputError& e) {
-      const std::string message = e.what();
-      EXPECT_EQ(e.file(), path) << c.what;
-      EXPECT_EQ(e.line(), c.line) << c.what << ": " << message;
-      EXPECT_NE(message.find(c.phrase), std::string::npos) << c.what << ": " << message;
-      EXPECT_EQ(message.find('\n'), std::string::npos) << c.what;
-    }
-  }
+  testutil::expectEachFileFailsClearly(
+      cases, "bad_tags.txt", [](const std::string& path) { readNodeTagFile(path, 8); });
 }
 
 // Line numbers refer to this text (27 nodes).

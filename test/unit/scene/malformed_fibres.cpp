@@ -16,16 +16,9 @@ using testutil::BadScene;
 using testutil::replaced;
 using testutil::writeScene;
 
-struct BadFile {
-  const char* what;
-  std::string text;
-  long line;
-  const char* phrase;
-};
-
 TEST(MalformedFibreFile, EachBadRowIsOneLineNamingFileAndLine) {
   const std::string good = "0 90\n1 0 0 0 1 0\n";
-  const std::vector<BadFile> cases = {
+  const std::vector<BadScene> cases = {
       {"four values", good + "1 0 0 1\n", 3, "expected 6 numbers (fibre x y z, sheet x y z) or 2 angles"},
       {"not a number", "0 90\n1 0 zero 0 1 0\n0 90\n", 2, "'zero'"},
       {"infinite", "0 90\n1 0 1e999 0 1 0\n0 90\n", 2, "1e999"},
@@ -35,19 +28,8 @@ TEST(MalformedFibreFile, EachBadRowIsOneLineNamingFileAndLine) {
       {"too few rows", good + "# the end\n", 2, "expected 3 rows (one per element: tets, then hexes), the file ends after 2"},
       {"too many rows", good + "0 90\n0 45\n", 4, "expected 3 rows (one per element: tets, then hexes), found more"},
   };
-  for (const BadFile& c : cases) {
-    const std::string path = writeScene("bad_frames.txt", c.text);
-    try {
-      readFibreFile(path, 3);
-      ADD_FAILURE() << c.what << ": no error";
-    } catch (const InputError& e) {
-      const std::string message = e.what();
-      EXPECT_EQ(e.file(), path) << c.what;
-      EXPECT_EQ(e.line(), c.line) << c.what << ": " << message;
-      EXPECT_NE(message.find(c.phrase), std::string::npos) << c.what << ": " << message;
-      EXPECT_EQ(message.find('\n'), std::string::npos) << c.what;
-    }
-  }
+  testutil::expectEachFileFailsClearly(
+      cases, "bad_frames.txt", [](const std::string& path) { readFibreFile(path, 3); });
   EXPECT_EQ(readFibreFile(writeScene("good_frames.txt", good + "0 45\n"), 3).size(), 3u);
 }
 

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -38,14 +39,15 @@ struct BadScene {
   const char* phrase;  // must appear in the message
 };
 
-// Each scene, written to `fileName`, fails to load with one InputError line naming the file,
-// the line and the phrase.
-inline void expectEachSceneFailsClearly(const std::vector<BadScene>& cases,
-                                        const std::string& fileName) {
+// Each text, written to `fileName` and given to `read`, fails with one InputError line naming
+// the file, the line and the phrase.
+inline void expectEachFileFailsClearly(const std::vector<BadScene>& cases,
+                                       const std::string& fileName,
+                                       const std::function<void(const std::string&)>& read) {
   for (const BadScene& c : cases) {
     const std::string path = writeScene(fileName, c.text);
     try {
-      loadScene(path);
+      read(path);
       ADD_FAILURE() << c.what << ": no error";
     } catch (const InputError& e) {
       const std::string message = e.what();
@@ -55,6 +57,13 @@ inline void expectEachSceneFailsClearly(const std::vector<BadScene>& cases,
       EXPECT_EQ(message.find('\n'), std::string::npos) << c.what << ": one line";
     }
   }
+}
+
+// Each scene, written to `fileName`, fails to load with one InputError line naming the file,
+// the line and the phrase.
+inline void expectEachSceneFailsClearly(const std::vector<BadScene>& cases,
+                                        const std::string& fileName) {
+  expectEachFileFailsClearly(cases, fileName, [](const std::string& path) { loadScene(path); });
 }
 
 }  // namespace testutil
