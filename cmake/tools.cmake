@@ -13,6 +13,14 @@ foreach(src ${TT_TOOL_SOURCES})
   list(APPEND TT_TOOLS ${tool})
 endforeach()
 
+# bench_adamss has one source file per experiment, in src/tools/bench_adamss/.
+file(GLOB TT_BENCH_ADAMSS_SOURCES CONFIGURE_DEPENDS "${TT_ROOT}/src/tools/bench_adamss/*.cpp")
+add_executable(bench_adamss ${TT_BENCH_ADAMSS_SOURCES})
+target_link_libraries(bench_adamss tissue_trainer_core)
+target_compile_options(bench_adamss PRIVATE -Wall -Wextra)
+target_compile_definitions(bench_adamss PRIVATE TT_SOURCE_ROOT="${TT_ROOT}")
+list(APPEND TT_TOOLS bench_adamss)
+
 # bench_bullet_peer and bench_bullet_liver run Bullet's deformable bodies beside our models:
 # they link the double-precision Bullet (Debian's libBullet*-float64; FindBullet's
 # BULLET_LIBRARIES are the single-precision ones of the contact library, which these tools do

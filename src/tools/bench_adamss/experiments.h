@@ -1,0 +1,22 @@
+#pragma once
+// The verification experiments of "Adamss: Advanced Anisotropic Mass-Spring System", Sec. 2.8,
+// one function per subcommand of bench_adamss (main.cpp). Each takes the arguments after its
+// name, writes its CSV (and a PNG through scripts/report's plotting, where it has one) under
+// the output folder, prints a summary table, and returns the process exit code.
+#include <string>
+#include <vector>
+
+namespace tt {
+namespace bench_adamss {
+
+using Args = std::vector<std::string>;
+
+int runStretch(const Args& args);           // Sec. 2.8.1: uniaxial stretch against the Hunter law
+int runSpringFit(const Args& args);         // Sec. 2.8.1: Table 2.2 springs and a least-squares fit
+int runShear(const Args& args);             // Sec. 2.8.1: simple shear, work against energy
+int runVolume(const Args& args);            // Sec. 2.8.2: volume preservation under gravity
+int runScaling(const Args& args);           // Sec. 2.8.3: time of 1000 implicit steps against size
+int runMeshIndependence(const Args& args);  // Sec. 2.1.2: the same stretch on several meshes
+
+}  // namespace bench_adamss
+}  // namespace tt
