@@ -479,12 +479,16 @@ void applyTagFile(const YamlEntry& spec, const fs::path& sceneDir, double frameT
       spec.fail("the tag file controls no node (X, Y, Z), so nothing reads the motion");
     return;
   }
+  // A motion along an axis that no line controls would be dropped: refuse it instead.
+  std::uint8_t anyControlled = 0;
+  for (const NodeTagLine& tag : lines) anyControlled |= tag.controlled;
+  const PrescribedPath path = readPrescription(spec, anyControlled, frameTime);
   for (std::uint8_t axes = 1; axes < 8; ++axes) {
     if (byAxes[axes].empty()) continue;
     ControlledSet set;
     set.nodes = byAxes[axes];
     set.axes = axes;
-    set.path = readPrescription(spec, kFixedAll, frameTime);
+    set.path = path;
     system.controlled.push_back(std::move(set));
   }
 }

@@ -19,7 +19,8 @@ struct NodeTagLine {
 };
 
 // Throws InputError "FILE:LINE: ..." for a line that is not "node tags", a node outside
-// [0, numNodes - 1], an unknown letter or an axis both fixed and controlled on one line.
+// [0, numNodes - 1], an unknown letter or an axis of a node both fixed and controlled (on one
+// line or on two).
 std::vector<NodeTagLine> readNodeTagFile(const std::string& path, int numNodes);
 
 }  // namespace tt
