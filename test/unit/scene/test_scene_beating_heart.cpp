@@ -1,0 +1,157 @@
+// config/scenes/beating_heart.yaml, the beating wall of the training graph: it loads with the
+// Hunter law, the volume term and the twitch; a mid-wall node moves with every beat and is
+// back at rest before the next one; the epicardial face rises as the wall thickens; and a
+// tool held on that face feels the beat through the contact model the simulation node
+// publishes (TissueContact's f0).
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "tissue_trainer/core/contact/tissue_contact.h"
+#include "tissue_trainer/core/integrate/stability_guard.h"
+#include "tissue_trainer/core/model/adamss/active_tension.h"
+#include "tissue_trainer/core/scene/scene.h"
+
+namespace tt {
+namespace {
+
+const std::string kHeart = std::string(TT_SOURCE_DIR) + "/config/scenes/beating_heart.yaml";
+
+// The slab's rest geometry as the scene places it (m).
+constexpr double kEpicardium = 0.055;
+const Eigen::Vector3d kCentre(-0.035, 0.075, 0.05);  // mid-wall, under the trocar
+
+int nearestNode(const Mesh& mesh, const Eigen::Vector3d& p) {
+  Eigen::Index best = 0;
+  (mesh.rest.colwise() - p).colwise().squaredNorm().minCoeff(&best);
+  return static_cast<int>(best);
+}
+
+Eigen::Vector3d displacement(const System& s, int node) {
+  return s.state.x.segment<3>(3 * node) - s.mesh.rest.col(node);
+}
+
+struct Beats {
+  std::vector<double> time, midWall, epicardialRise;
+  int halvings = 0;
+};
+
+// Runs the scene frame by frame for `duration` s; every frame must pass at once.
+Beats run(Scene& scene, double duration, int midWall, int epicardial) {
+  Beats b;
+  const int frames = static_cast<int>(std::lround(duration / scene.frameTime));
+  for (int f = 0; f < frames; ++f) {
+    const StepReport r = scene.integrator->advance(scene.system, scene.frameTime);
+    EXPECT_TRUE(r.ok) << r.failure;
+    b.halvings += r.halvings;
+    b.time.push_back(scene.system.state.t);
+    b.midWall.push_back(displacement(scene.system, midWall).norm());
+    b.epicardialRise.push_back(displacement(scene.system, epicardial).z());
+  }
+  return b;
+}
+
+double maxOver(const Beats& b, const std::vector<double>& v, double t0, double t1) {
+  double m = -INFINITY;
+  for (size_t k = 0; k < v.size(); ++k)
+    if (b.time[k] > t0 - 1e-9 && b.time[k] < t1 + 1e-9) m = std::max(m, v[k]);
+  return m;
+}
+
+TEST(BeatingHeartScene, LoadsTheMyocardiumModels) {
+  const Scene scene = loadScene(kHeart);
+  ASSERT_EQ(scene.system.models.size(), 3u);
+  EXPECT_STREQ(scene.system.models[0]->name(), "virtual_hexahedron");
+  EXPECT_STREQ(scene.system.models[1]->name(), "virtual_hexahedron");
+  EXPECT_NE(dynamic_cast<const adamss::ActiveTensionModel*>(scene.system.models[2].get()), nullptr);
+  ASSERT_TRUE(scene.contact.has_value());
+  EXPECT_NEAR(scene.frameTime, 0.01, 1e-12);
+  // The fibre turns from +60 degrees at the endocardium to -60 at the epicardium, in the wall
+  // plane (x circumferential, z through the wall).
+  const Mesh& mesh = scene.system.mesh;
+  double innermost = INFINITY, outermost = -INFINITY, inner = 0, outer = 0;
+  for (int e = 0; e < mesh.numTets(); ++e) {
+    double z = 0;
+    for (int a : mesh.tets[e]) z += 0.25 * mesh.rest(2, a);
+    const Eigen::Vector3d fibre = mesh.fibreFrame[e].col(0);
+    EXPECT_NEAR(fibre.z(), 0.0, 1e-12);
+    const double angle = std::atan2(fibre.y(), fibre.x()) * 180.0 / M_PI;
+    if (z < innermost) innermost = z, inner = angle;
+    if (z > outermost) outermost = z, outer = angle;
+  }
+  EXPECT_GT(inner, 30.0);
+  EXPECT_LT(outer, -30.0);
+}
+
+// A mid-wall node: displaced by millimetres at systole, back below a tenth of that before the
+// next twitch starts (t = 1 s), and moving again in the second beat as in the first.
+TEST(BeatingHeartScene, TheWallBeatsOnceASecond) {
+  Scene scene = loadScene(kHeart);
+  const int mid = nearestNode(scene.system.mesh, kCentre);
+  const int epi = nearestNode(scene.system.mesh, Eigen::Vector3d(kCentre.x(), kCentre.y(), kEpicardium));
+  const Beats b = run(scene, 1.2, mid, epi);
+  EXPECT_EQ(b.halvings, 0);
+  const double systole = maxOver(b, b.midWall, 0.0, 0.5);
+  const double diastole = maxOver(b, b.midWall, 0.85, 1.0);
+  const double second = maxOver(b, b.midWall, 1.0, 1.2);
+  const double firstSame = maxOver(b, b.midWall, 0.0, 0.2);
+  const double rise = maxOver(b, b.epicardialRise, 0.0, 0.5);
+  EXPECT_GT(systole, 0.5e-3);                           // 1.18 mm when written
+  EXPECT_LT(diastole, 0.05 * systole);                   // 1e-7 m
+  EXPECT_NEAR(second, firstSame, 0.05 * systole);        // the same beat again
+  EXPECT_GT(second, 0.5 * systole);
+  EXPECT_GT(rise, 0.5e-3);  // the wall thickens: the epicardium rises 1.6 mm toward the tool
+}
+
+// The closed jaws (one box of the two jaws' size, 4 x 3.2 x 18 mm, along the shaft) held 2 mm
+// into the epicardium at the wall's centre, as in the palpation task: the contact model that
+// the simulation node publishes each frame (TissueContact::update before the frame's step)
+// carries a larger force on the tool at systole than in diastole.
+TEST(BeatingHeartScene, AToolHeldOnTheWallFeelsItBeat) {
+  Scene scene = loadScene(kHeart);
+  ASSERT_TRUE(scene.contact.has_value());
+  ToolShape jaws;
+  jaws.type = ToolShape::Type::kBox;
+  jaws.size = Eigen::Vector3d(0.004, 0.0032, 0.018);
+  jaws.link = "jaws";
+  const double depth = 0.002;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = Eigen::Vector3d(kCentre.x(), kCentre.y(), kEpicardium - depth + 0.009);
+  TissueContact contact(scene.system, *scene.contact, {jaws});
+  // The jaws close far from the wall (as the task starts), so they arrive closed and press
+  // without grasping.
+  Eigen::Isometry3d away = pose;
+  away.translation().z() += 0.05;
+  contact.setTool(away, {away}, 0.0, 0.0);
+  ASSERT_FALSE(contact.update().inContact);
+  std::vector<double> time, force;
+  for (int f = 0; f < 130; ++f) {
+    // Lowered from 2 mm above the surface to the depth over the first 0.4 s, then held.
+    const double lowered = std::min(1.0, scene.system.state.t / 0.4);
+    Eigen::Isometry3d now = pose;
+    now.translation().z() += (1.0 - lowered) * (depth + 0.002);
+    contact.setTool(now, {now}, 0.0, scene.system.state.t);
+    const ContactResult& r = contact.update();
+    time.push_back(scene.system.state.t);
+    force.push_back(r.f0.z());
+    const StepReport report = scene.integrator->advance(scene.system, scene.frameTime);
+    ASSERT_TRUE(report.ok) << report.failure;
+    EXPECT_EQ(report.halvings, 0) << "frame " << f;
+  }
+  // Diastole: the wall at rest against the jaws (0.28 N when written); systole of the second
+  // beat: the thickening wall pushes them back (0.79 N).
+  double diastole = INFINITY, systole = 0.0;
+  for (size_t k = 0; k < time.size(); ++k) {
+    if (time[k] > 0.85 && time[k] < 1.0) diastole = std::min(diastole, force[k]);
+    if (time[k] > 1.0) systole = std::max(systole, force[k]);
+  }
+  EXPECT_GT(diastole, 0.1);
+  EXPECT_GT(systole, 1.5 * diastole);
+}
+
+}  // namespace
+}  // namespace tt
