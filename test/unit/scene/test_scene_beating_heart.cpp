@@ -8,10 +8,12 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
 #include "tissue_trainer/core/contact/tissue_contact.h"
+#include "tissue_trainer/core/haptics/haptic_pipeline.h"
 #include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/model/adamss/active_tension.h"
 #include "tissue_trainer/core/scene/scene.h"
@@ -108,9 +110,13 @@ TEST(BeatingHeartScene, TheWallBeatsOnceASecond) {
 }
 
 // The closed jaws (one box of the two jaws' size, 4 x 3.2 x 18 mm, along the shaft) held 2 mm
-// into the epicardium at the wall's centre, as in the palpation task: the contact model that
-// the simulation node publishes each frame (TissueContact::update before the frame's step)
-// carries a larger force on the tool at systole than in diastole.
+// into the epicardium at the wall's centre, as in the palpation task. Each frame, as the
+// simulation node does, the contact is queried before the step and its model (f0, K at the
+// tip) goes to the haptic bridge's pipeline (ForceExtrapolator and SafetyFilter with the
+// bridge's parameters, config/haptic_bridge.yaml), ticked at 1 kHz with the device where the
+// tool is. The force the device gets is larger at systole than in diastole: the thickening
+// wall pushes the jaws back. K is the contact penalty's (tissue held fixed); the beat reaches
+// the hand through f0.
 TEST(BeatingHeartScene, AToolHeldOnTheWallFeelsItBeat) {
   Scene scene = loadScene(kHeart);
   ASSERT_TRUE(scene.contact.has_value());
@@ -128,7 +134,12 @@ TEST(BeatingHeartScene, AToolHeldOnTheWallFeelsItBeat) {
   away.translation().z() += 0.05;
   contact.setTool(away, {away}, 0.0, 0.0);
   ASSERT_FALSE(contact.update().inContact);
-  std::vector<double> time, force;
+
+  HapticPipelineOptions bridge;  // the defaults are config/haptic_bridge.yaml's values
+  bridge.extrapolation.maxStiffness = 10000.0;
+  HapticPipeline haptics(bridge);
+  std::vector<double> time, force, felt;
+  double hapticTime = 0.0;
   for (int f = 0; f < 130; ++f) {
     // Lowered from 2 mm above the surface to the depth over the first 0.4 s, then held.
     const double lowered = std::min(1.0, scene.system.state.t / 0.4);
@@ -136,21 +147,44 @@ TEST(BeatingHeartScene, AToolHeldOnTheWallFeelsItBeat) {
     now.translation().z() += (1.0 - lowered) * (depth + 0.002);
     contact.setTool(now, {now}, 0.0, scene.system.state.t);
     const ContactResult& r = contact.update();
+    ContactModel model;
+    model.sequence = static_cast<std::uint64_t>(f + 1);
+    model.stamp = model.simTime = scene.system.state.t;
+    model.inContact = r.inContact;
+    model.x0 = r.x0;
+    model.f0 = r.f0;
+    model.K = r.K;
+    EXPECT_EQ(haptics.submit(model, hapticTime, r.x0), ModelVerdict::kAccepted) << "frame " << f;
+    for (int tick = 0; tick < 10; ++tick) {
+      hapticTime += 0.001;
+      felt.push_back(haptics.tick(r.x0, hapticTime, true).z());
+    }
     time.push_back(scene.system.state.t);
     force.push_back(r.f0.z());
     const StepReport report = scene.integrator->advance(scene.system, scene.frameTime);
     ASSERT_TRUE(report.ok) << report.failure;
     EXPECT_EQ(report.halvings, 0) << "frame " << f;
   }
-  // Diastole: the wall at rest against the jaws (0.28 N when written); systole of the second
-  // beat: the thickening wall pushes them back (0.79 N).
-  double diastole = INFINITY, systole = 0.0;
-  for (size_t k = 0; k < time.size(); ++k) {
-    if (time[k] > 0.85 && time[k] < 1.0) diastole = std::min(diastole, force[k]);
-    if (time[k] > 1.0) systole = std::max(systole, force[k]);
-  }
+  // Diastole: the wall at rest against the jaws (0.26 N when written); systole of the second
+  // beat: the thickening wall pushes them back (1.35 N). The jaws never lose the wall while
+  // held. The device gets the same through the bridge's blending and rate limit.
+  const auto range = [&](const std::vector<double>& v, double t0, double t1, bool largest) {
+    double m = largest ? -INFINITY : INFINITY;
+    const double dt = (time.size() == v.size()) ? 0.0 : 0.001;
+    for (size_t k = 0; k < v.size(); ++k) {
+      const double t = dt > 0.0 ? dt * static_cast<double>(k) : time[k];
+      if (t > t0 && t < t1) m = largest ? std::max(m, v[k]) : std::min(m, v[k]);
+    }
+    return m;
+  };
+  const double diastole = range(force, 0.85, 1.0, false), systole = range(force, 1.0, 1.3, true);
   EXPECT_GT(diastole, 0.1);
   EXPECT_GT(systole, 1.5 * diastole);
+  EXPECT_GT(range(force, 0.45, 1.3, false), 0.1);
+  const double feltDiastole = range(felt, 0.85, 1.0, false), feltSystole = range(felt, 1.0, 1.3, true);
+  EXPECT_NEAR(feltDiastole, diastole, 0.05 * diastole);
+  EXPECT_GT(feltSystole, 1.5 * feltDiastole);
+  EXPECT_EQ(haptics.extrapolator().counters().malformed, 0u);
 }
 
 }  // namespace
