@@ -138,7 +138,7 @@ TEST(BeatingHeartScene, AToolHeldOnTheWallFeelsItBeat) {
   HapticPipelineOptions bridge;  // the defaults are config/haptic_bridge.yaml's values
   bridge.extrapolation.maxStiffness = 10000.0;
   HapticPipeline haptics(bridge);
-  std::vector<double> time, force, felt;
+  std::vector<double> time, force, feltTime, felt;
   double hapticTime = 0.0;
   for (int f = 0; f < 130; ++f) {
     // Lowered from 2 mm above the surface to the depth over the first 0.4 s, then held.
@@ -157,6 +157,7 @@ TEST(BeatingHeartScene, AToolHeldOnTheWallFeelsItBeat) {
     EXPECT_EQ(haptics.submit(model, hapticTime, r.x0), ModelVerdict::kAccepted) << "frame " << f;
     for (int tick = 0; tick < 10; ++tick) {
       hapticTime += 0.001;
+      feltTime.push_back(hapticTime);
       felt.push_back(haptics.tick(r.x0, hapticTime, true).z());
     }
     time.push_back(scene.system.state.t);
@@ -168,20 +169,21 @@ TEST(BeatingHeartScene, AToolHeldOnTheWallFeelsItBeat) {
   // Diastole: the wall at rest against the jaws (0.26 N when written); systole of the second
   // beat: the thickening wall pushes them back (1.35 N). The jaws never lose the wall while
   // held. The device gets the same through the bridge's blending and rate limit.
-  const auto range = [&](const std::vector<double>& v, double t0, double t1, bool largest) {
+  // Smallest or largest of v over the samples at times in (t0, t1).
+  const auto range = [](const std::vector<double>& at, const std::vector<double>& v, double t0,
+                        double t1, bool largest) {
     double m = largest ? -INFINITY : INFINITY;
-    const double dt = (time.size() == v.size()) ? 0.0 : 0.001;
-    for (size_t k = 0; k < v.size(); ++k) {
-      const double t = dt > 0.0 ? dt * static_cast<double>(k) : time[k];
-      if (t > t0 && t < t1) m = largest ? std::max(m, v[k]) : std::min(m, v[k]);
-    }
+    for (size_t k = 0; k < v.size(); ++k)
+      if (at[k] > t0 && at[k] < t1) m = largest ? std::max(m, v[k]) : std::min(m, v[k]);
     return m;
   };
-  const double diastole = range(force, 0.85, 1.0, false), systole = range(force, 1.0, 1.3, true);
+  const double diastole = range(time, force, 0.85, 1.0, false);
+  const double systole = range(time, force, 1.0, 1.3, true);
   EXPECT_GT(diastole, 0.1);
   EXPECT_GT(systole, 1.5 * diastole);
-  EXPECT_GT(range(force, 0.45, 1.3, false), 0.1);
-  const double feltDiastole = range(felt, 0.85, 1.0, false), feltSystole = range(felt, 1.0, 1.3, true);
+  EXPECT_GT(range(time, force, 0.45, 1.3, false), 0.1);
+  const double feltDiastole = range(feltTime, felt, 0.85, 1.0, false);
+  const double feltSystole = range(feltTime, felt, 1.0, 1.3, true);
   EXPECT_NEAR(feltDiastole, diastole, 0.05 * diastole);
   EXPECT_GT(feltSystole, 1.5 * feltDiastole);
   EXPECT_EQ(haptics.extrapolator().counters().malformed, 0u);
