@@ -16,6 +16,8 @@
 #include "tissue_trainer/core/haptics/haptic_pipeline.h"
 #include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/model/adamss/active_tension.h"
+#include "tissue_trainer/core/operator/task_script.h"
+#include "tissue_trainer/core/operator/virtual_hand.h"
 #include "tissue_trainer/core/scene/scene.h"
 
 namespace tt {
@@ -187,6 +189,79 @@ TEST(BeatingHeartScene, AToolHeldOnTheWallFeelsItBeat) {
   EXPECT_NEAR(feltDiastole, diastole, 0.05 * diastole);
   EXPECT_GT(feltSystole, 1.5 * feltDiastole);
   EXPECT_EQ(haptics.extrapolator().counters().malformed, 0u);
+}
+
+// The palpation task (config/tasks/beating_heart_palpation.yaml) played as the operator node
+// plays it, without ROS: the virtual hand (config/operator.yaml's gains) follows the script and
+// the force the bridge's pipeline sends; the closed jaws (one box along the shaft line from the
+// trocar, 18 mm beyond the tip) are where the hand is; the scene steps at 100 Hz with the
+// contact queried before each step. Through the first site's hold (t = 3 to 7 s; the beats
+// starting at 4 and 5 s are checked) the wall pushes the hand back at every systole and lets
+// it return in diastole (0.17 N in diastole, 1.4 to 1.6 N at systole, the hand 0.7 to 1 mm up
+// when written); no frame needs the guard.
+TEST(BeatingHeartScene, ThePalpationTaskFeelsEveryBeat) {
+  Scene scene = loadScene(kHeart);
+  const TaskScript task =
+      TaskScript::load(std::string(TT_SOURCE_DIR) + "/config/tasks/beating_heart_palpation.yaml");
+  const Eigen::Vector3d trocar(-0.035, 0.075, 0.20);
+  const auto jawsPose = [&](const Eigen::Vector3d& tip) {
+    const Eigen::Vector3d along = (tip - trocar).normalized();  // into the wall
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), along).toRotationMatrix();
+    pose.translation() = tip + 0.009 * along;
+    return pose;
+  };
+  ToolShape jaws;
+  jaws.type = ToolShape::Type::kBox;
+  jaws.size = Eigen::Vector3d(0.004, 0.0032, 0.018);
+  jaws.link = "jaws";
+  TissueContact contact(scene.system, *scene.contact, {jaws});
+  HapticPipelineOptions bridge;
+  bridge.extrapolation.maxStiffness = 10000.0;
+  HapticPipeline haptics(bridge);
+  VirtualHand hand(HandGains{}, task.sample(0.0).tip);
+  std::vector<double> time, force, handZ;
+  int halvings = 0;
+  for (int f = 0; f < 600; ++f) {
+    const double t = scene.system.state.t;
+    const Eigen::Isometry3d pose = jawsPose(hand.position());
+    contact.setTool(pose, {pose}, task.sample(t).jaw, t);
+    const ContactResult& r = contact.update();
+    ContactModel model;
+    model.sequence = static_cast<std::uint64_t>(f + 1);
+    model.stamp = model.simTime = t;
+    model.inContact = r.inContact;
+    model.x0 = hand.position();
+    model.f0 = r.f0;
+    model.K = r.K;
+    ASSERT_EQ(haptics.submit(model, t, hand.position()), ModelVerdict::kAccepted) << "frame " << f;
+    for (int tick = 1; tick <= 10; ++tick) {
+      const double now = t + 0.001 * tick;
+      const Eigen::Vector3d felt = haptics.tick(hand.position(), now, true);
+      const TaskSample target = task.sample(now);
+      hand.step(target.tip, target.tipVelocity, felt, 0.001);
+    }
+    time.push_back(t);
+    force.push_back(r.f0.z());
+    handZ.push_back(hand.position().z());
+    const StepReport report = scene.integrator->advance(scene.system, scene.frameTime);
+    ASSERT_TRUE(report.ok) << report.failure;
+    halvings += report.halvings;
+  }
+  EXPECT_EQ(halvings, 0);
+  // Each beat of the hold: the force in the first 0.4 s of the beat (systole) against the
+  // force late in the beat (diastole, 0.8 to 1 s), and the hand pushed up with it.
+  for (int beat = 4; beat < 6; ++beat) {
+    double systole = 0.0, diastole = INFINITY, up = -INFINITY, rest = INFINITY;
+    for (size_t k = 0; k < time.size(); ++k) {
+      const double s = time[k] - beat;
+      if (s >= 0.0 && s < 0.4) systole = std::max(systole, force[k]), up = std::max(up, handZ[k]);
+      if (s > 0.8 && s < 1.0) diastole = std::min(diastole, force[k]), rest = std::min(rest, handZ[k]);
+    }
+    EXPECT_GT(diastole, 0.05) << "beat " << beat << ": the jaws rest on the wall";
+    EXPECT_GT(systole, 1.5 * diastole) << "beat " << beat;
+    EXPECT_GT(up - rest, 0.2e-3) << "beat " << beat << ": the hand is pushed back";
+  }
 }
 
 }  // namespace
