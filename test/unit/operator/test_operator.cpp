@@ -256,8 +256,8 @@ TEST(ShippedTasks, MuscleGraspClosesTheJawOnTheBellySurface) {
 }
 
 // The beating wall (config/scenes/beating_heart.yaml): the closed jaws, 18 mm beyond the tip
-// along the shaft, stop 5 mm above the rest epicardium and press 2 mm into it.
-TEST(ShippedTasks, BeatingHeartPalpationPressesTheJawTipsTwoMillimetresIn) {
+// along the shaft, stop 5 mm above the rest epicardium and press 1.5 mm into it.
+TEST(ShippedTasks, BeatingHeartPalpationPressesTheJawTipsOneAndAHalfMillimetresIn) {
   const TaskScript task = TaskScript::load(kTasks + "beating_heart_palpation.yaml");
   const Mesh wall = loadScene(std::string(TT_SOURCE_DIR) + "/config/scenes/beating_heart.yaml").system.mesh;
   const double jawLength = 0.018;
@@ -278,7 +278,7 @@ TEST(ShippedTasks, BeatingHeartPalpationPressesTheJawTipsTwoMillimetresIn) {
     if (k.phase == "palpate" || k.phase == "hold") {
       palpations += k.phase == "palpate";
       EXPECT_TRUE(insideMesh(wall, jawTips)) << "keyframe " << i;
-      EXPECT_NEAR(jawInsertion - surface, 0.002, 1e-4) << "keyframe " << i;
+      EXPECT_NEAR(jawInsertion - surface, 0.0015, 1e-4) << "keyframe " << i;
     } else if (k.phase == "approach" || k.phase == "release") {
       EXPECT_NEAR(surface - jawInsertion, 0.005, 2e-4) << "keyframe " << i;
     } else {
