@@ -1,8 +1,9 @@
 // config/scenes/beating_heart.yaml, the beating wall of the training graph: it loads with the
 // Hunter law, the volume term and the twitch; a mid-wall node moves with every beat and is
-// back at rest before the next one; the epicardial face rises as the wall thickens; and a
-// tool held on that face feels the beat through the contact model the simulation node
-// publishes (TissueContact's f0).
+// back at rest before the next one; the epicardial face rises as the wall thickens; a tool
+// held on that face feels the beat through the contact model the simulation node publishes
+// (TissueContact's f0) and the haptic bridge's pipeline; and the palpation task, played
+// through the operator's virtual hand, is pushed back at every systole.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -14,7 +15,6 @@
 
 #include "tissue_trainer/core/contact/tissue_contact.h"
 #include "tissue_trainer/core/haptics/haptic_pipeline.h"
-#include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/model/adamss/active_tension.h"
 #include "tissue_trainer/core/operator/task_script.h"
 #include "tissue_trainer/core/operator/virtual_hand.h"
@@ -57,6 +57,37 @@ Beats run(Scene& scene, double duration, int midWall, int epicardial) {
     b.epicardialRise.push_back(displacement(scene.system, epicardial).z());
   }
   return b;
+}
+
+// The two closed jaws of config/instruments/grasper.urdf as one box, 4 x 3.2 x 18 mm, its long
+// side along the shaft (its pose: the box centre, 9 mm beyond the jaw pivot).
+ToolShape closedJaws() {
+  ToolShape jaws;
+  jaws.type = ToolShape::Type::kBox;
+  jaws.size = Eigen::Vector3d(0.004, 0.0032, 0.018);
+  jaws.link = "jaws";
+  return jaws;
+}
+
+// The haptic bridge's per-tick pipeline with config/haptic_bridge.yaml's values (the option
+// defaults, and its max_stiffness).
+HapticPipeline bridgePipeline() {
+  HapticPipelineOptions options;
+  options.extrapolation.maxStiffness = 10000.0;
+  return HapticPipeline(options);
+}
+
+// The contact model the simulation node publishes for a contact result, with the device at x0.
+ContactModel publishedModel(const ContactResult& r, std::uint64_t sequence, double t,
+                            const Eigen::Vector3d& x0) {
+  ContactModel model;
+  model.sequence = sequence;
+  model.stamp = model.simTime = t;
+  model.inContact = r.inContact;
+  model.x0 = x0;
+  model.f0 = r.f0;
+  model.K = r.K;
+  return model;
 }
 
 double maxOver(const Beats& b, const std::vector<double>& v, double t0, double t1) {
@@ -122,14 +153,10 @@ TEST(BeatingHeartScene, TheWallBeatsOnceASecond) {
 TEST(BeatingHeartScene, AToolHeldOnTheWallFeelsItBeat) {
   Scene scene = loadScene(kHeart);
   ASSERT_TRUE(scene.contact.has_value());
-  ToolShape jaws;
-  jaws.type = ToolShape::Type::kBox;
-  jaws.size = Eigen::Vector3d(0.004, 0.0032, 0.018);
-  jaws.link = "jaws";
   const double depth = 0.002;
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() = Eigen::Vector3d(kCentre.x(), kCentre.y(), kEpicardium - depth + 0.009);
-  TissueContact contact(scene.system, *scene.contact, {jaws});
+  TissueContact contact(scene.system, *scene.contact, {closedJaws()});
   // The jaws close far from the wall (as the task starts), so they arrive closed and press
   // without grasping.
   Eigen::Isometry3d away = pose;
@@ -137,9 +164,7 @@ TEST(BeatingHeartScene, AToolHeldOnTheWallFeelsItBeat) {
   contact.setTool(away, {away}, 0.0, 0.0);
   ASSERT_FALSE(contact.update().inContact);
 
-  HapticPipelineOptions bridge;  // the defaults are config/haptic_bridge.yaml's values
-  bridge.extrapolation.maxStiffness = 10000.0;
-  HapticPipeline haptics(bridge);
+  HapticPipeline haptics = bridgePipeline();
   std::vector<double> time, force, feltTime, felt;
   double hapticTime = 0.0;
   for (int f = 0; f < 130; ++f) {
@@ -149,13 +174,7 @@ TEST(BeatingHeartScene, AToolHeldOnTheWallFeelsItBeat) {
     now.translation().z() += (1.0 - lowered) * (depth + 0.002);
     contact.setTool(now, {now}, 0.0, scene.system.state.t);
     const ContactResult& r = contact.update();
-    ContactModel model;
-    model.sequence = static_cast<std::uint64_t>(f + 1);
-    model.stamp = model.simTime = scene.system.state.t;
-    model.inContact = r.inContact;
-    model.x0 = r.x0;
-    model.f0 = r.f0;
-    model.K = r.K;
+    const ContactModel model = publishedModel(r, f + 1, scene.system.state.t, r.x0);
     EXPECT_EQ(haptics.submit(model, hapticTime, r.x0), ModelVerdict::kAccepted) << "frame " << f;
     for (int tick = 0; tick < 10; ++tick) {
       hapticTime += 0.001;
@@ -211,14 +230,8 @@ TEST(BeatingHeartScene, ThePalpationTaskFeelsEveryBeat) {
     pose.translation() = tip + 0.009 * along;
     return pose;
   };
-  ToolShape jaws;
-  jaws.type = ToolShape::Type::kBox;
-  jaws.size = Eigen::Vector3d(0.004, 0.0032, 0.018);
-  jaws.link = "jaws";
-  TissueContact contact(scene.system, *scene.contact, {jaws});
-  HapticPipelineOptions bridge;
-  bridge.extrapolation.maxStiffness = 10000.0;
-  HapticPipeline haptics(bridge);
+  TissueContact contact(scene.system, *scene.contact, {closedJaws()});
+  HapticPipeline haptics = bridgePipeline();
   VirtualHand hand(HandGains{}, task.sample(0.0).tip);
   std::vector<double> time, force, handZ;
   int halvings = 0;
@@ -227,13 +240,7 @@ TEST(BeatingHeartScene, ThePalpationTaskFeelsEveryBeat) {
     const Eigen::Isometry3d pose = jawsPose(hand.position());
     contact.setTool(pose, {pose}, task.sample(t).jaw, t);
     const ContactResult& r = contact.update();
-    ContactModel model;
-    model.sequence = static_cast<std::uint64_t>(f + 1);
-    model.stamp = model.simTime = t;
-    model.inContact = r.inContact;
-    model.x0 = hand.position();
-    model.f0 = r.f0;
-    model.K = r.K;
+    const ContactModel model = publishedModel(r, f + 1, t, hand.position());
     ASSERT_EQ(haptics.submit(model, t, hand.position()), ModelVerdict::kAccepted) << "frame " << f;
     for (int tick = 1; tick <= 10; ++tick) {
       const double now = t + 0.001 * tick;
