@@ -45,7 +45,7 @@ def main(folder):
               "The bridge's p99 is the largest of the p99s of its 2 s statistics windows.\n")
     graph = rows(os.path.join(folder, "graph.csv"))
     if graph:
-        print("## Training graph, liver palpation, scripted operator (100 Hz target)\n")
+        print("## Training graph, liver palpation (and the beating heart), scripted operator (100 Hz target)\n")
         body = []
         for g in graph:
             body.append([g["label"].replace("_", " "), g["step_rate_hz"], g["step_wall_p50_ms"],

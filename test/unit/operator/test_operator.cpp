@@ -1,5 +1,5 @@
 // The scripted operator's core: task scripts (format, interpolation, strict validation),
-// the virtual hand, and the two shipped tasks against the real scene geometry.
+// the virtual hand, and the shipped tasks against the real scene geometry.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -11,6 +11,7 @@
 #include "tissue_trainer/core/mesh/mesh_io.h"
 #include "tissue_trainer/core/operator/task_script.h"
 #include "tissue_trainer/core/operator/virtual_hand.h"
+#include "tissue_trainer/core/scene/scene.h"
 
 namespace tt {
 namespace {
@@ -252,6 +253,39 @@ TEST(ShippedTasks, MuscleGraspClosesTheJawOnTheBellySurface) {
   ASSERT_NE(task.find("release"), nullptr);
   EXPECT_GT(task.find("release")->jaw, 0.5);
   EXPECT_GT(task.keyframes().back().tip.z() - jawLength, belly + radius + 0.05);
+}
+
+// The beating wall (config/scenes/beating_heart.yaml): the closed jaws, 18 mm beyond the tip
+// along the shaft, stop 5 mm above the rest epicardium and press 1.5 mm into it.
+TEST(ShippedTasks, BeatingHeartPalpationPressesTheJawTipsOneAndAHalfMillimetresIn) {
+  const TaskScript task = TaskScript::load(kTasks + "beating_heart_palpation.yaml");
+  const Mesh wall = loadScene(std::string(TT_SOURCE_DIR) + "/config/scenes/beating_heart.yaml").system.mesh;
+  const double jawLength = 0.018;
+  const kin::Chain chain = kin::test::grasperChain();
+  kin::IkOptions ik;
+  ik.variables = kin::trocarPositionVariables(chain);
+  int palpations = 0;
+  for (size_t i = 0; i < task.keyframes().size(); ++i) {
+    const Keyframe& k = task.keyframes()[i];
+    const kin::IkResult r = kin::solveTipPosition(chain, k.tip, Eigen::VectorXd::Zero(5), ik);
+    EXPECT_TRUE(r.reached()) << "keyframe " << i << " error " << r.error;
+    EXPECT_EQ(k.jaw, 0.0) << "keyframe " << i;
+    const Eigen::Vector3d d = (k.tip - kin::test::kTrocar).normalized();
+    const Eigen::Vector3d jawTips = k.tip + jawLength * d;
+    const double jawInsertion = (jawTips - kin::test::kTrocar).norm();
+    const double surface = firstSurfaceHit(wall, kin::test::kTrocar, d);
+    ASSERT_TRUE(std::isfinite(surface)) << "keyframe " << i << ": the shaft line misses the wall";
+    if (k.phase == "palpate" || k.phase == "hold") {
+      palpations += k.phase == "palpate";
+      EXPECT_TRUE(insideMesh(wall, jawTips)) << "keyframe " << i;
+      EXPECT_NEAR(jawInsertion - surface, 0.0015, 1e-4) << "keyframe " << i;
+    } else if (k.phase == "approach" || k.phase == "release") {
+      EXPECT_NEAR(surface - jawInsertion, 0.005, 2e-4) << "keyframe " << i;
+    } else {
+      EXPECT_GT(surface - jawInsertion, 0.05) << "keyframe " << i << " should be clear of the wall";
+    }
+  }
+  EXPECT_EQ(palpations, 2);
 }
 
 }  // namespace
