@@ -76,24 +76,33 @@ def plot_stretch(d):
     finish(fig, os.path.join(d, "stretch.png"))
 
 
+PAIR_COLOUR = {"sf": "tab:red", "fn": "tab:orange", "ns": "tab:blue"}
+
+
 def plot_spring_fit(d):
     rows = read_rows(os.path.join(d, "spring_fit.csv"))
-    panels = grouped(rows, "specimen", "topology")
-    fig, axes = plt.subplots(1, len(panels), figsize=(5 * len(panels), 4), squeeze=False)
-    for ax, ((specimen, topology), panel) in zip(axes[0], panels.items()):
+    panels = grouped(rows, "specimen", "topology", "measure")
+    columns = min(2, len(panels))
+    lines = (len(panels) + columns - 1) // columns
+    fig, axes = plt.subplots(lines, columns, figsize=(5.2 * columns, 3.9 * lines), squeeze=False)
+    for ax in axes.flat[len(panels):]:
+        ax.axis("off")
+    for ax, ((specimen, topology, measure), panel) in zip(axes.flat, panels.items()):
         for (coefficients, axis), curve in grouped(panel, "coefficients", "axis").items():
-            colour = AXIS_COLOUR[axis]
-            strain = column(curve, "strain", 100)
+            colour = AXIS_COLOUR.get(axis) or PAIR_COLOUR.get(axis, "tab:gray")
+            x = column(curve, "strain", 100)
             if coefficients == "table_2.2":
-                ax.plot(strain, column(curve, "theory_Pa", 1e-3), "-", color=colour, lw=1.2,
+                ax.plot(x, column(curve, "theory_Pa", 1e-3), "-", color=colour, lw=1.2,
                         label=f"{axis}: Hunter")
-            ax.plot(strain, column(curve, "stress_Pa", 1e-3),
+            ax.plot(x, column(curve, "value_Pa", 1e-3),
                     "o" if coefficients == "table_2.2" else "x", color=colour, ms=4, mfc="none",
                     label=f"{axis}: {coefficients.replace('_', ' ')}")
         ax.set_yscale("log")
-        ax.set_title(f"{specimen}, {topology}", fontsize=10)
-        ax.set_xlabel("strain (%)")
-        ax.set_ylabel("nominal stress P (kPa)")
+        shear = measure == "shear_energy"
+        ax.set_title(f"{specimen}, {topology}: " + ("simple shear" if shear else "uniaxial stretch"),
+                     fontsize=10)
+        ax.set_xlabel("shear gamma (%)" if shear else "strain (%)")
+        ax.set_ylabel("energy density W (kPa)" if shear else "nominal stress P (kPa)")
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7, ncol=2)
     fig.suptitle("Cubic axial and torsion springs: Table 2.2 (o) and fitted (x) "
