@@ -99,8 +99,8 @@ def plot_spring_fit(d):
                     label=f"{axis}: {coefficients.replace('_', ' ')}")
         ax.set_yscale("log")
         shear = measure == "shear_energy"
-        ax.set_title(f"{specimen}, {topology}: " + ("simple shear" if shear else "uniaxial stretch"),
-                     fontsize=10)
+        test = "simple shear" if shear else "uniaxial stretch"
+        ax.set_title(f"{specimen}, {topology}: {test}", fontsize=10)
         ax.set_xlabel("shear gamma (%)" if shear else "strain (%)")
         ax.set_ylabel("energy density W (kPa)" if shear else "nominal stress P (kPa)")
         ax.grid(True, which="both", alpha=0.3)

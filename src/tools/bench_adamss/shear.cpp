@@ -44,68 +44,72 @@ struct Summary {
 }  // namespace
 
 int runShear(const Args& args) {
-  CommonOptions o;
-  if (!parseCommon("shear", args, o)) return 2;
-  const int steps = o.quick ? 5 : 20;
-  struct Specimen {
-    const char* name;
-    Box box;
-  };
-  std::vector<Specimen> specimens = {{"voxel", {{1, 1, 1}, "six"}}};
-  if (!o.quick) specimens.push_back({"cuboid_4x4x8", {{4, 4, 8}, "six"}});
+  return reportingErrors("shear", [&] {
+    CommonOptions o;
+    if (!parseCommon("shear", args, o)) return 2;
+    const int steps = o.quick ? 5 : 20;
+    struct Specimen {
+      const char* name;
+      Box box;
+    };
+    std::vector<Specimen> specimens = {{"voxel", {{1, 1, 1}, "six"}}};
+    if (!o.quick) specimens.push_back({"cuboid_4x4x8", {{4, 4, 8}, "six"}});
 
-  std::ofstream csv(o.out + "/shear.csv");
-  csv << "specimen,plane,shear,work_J,energy_J,homogeneous_energy_J,relative_difference\n";
-  std::vector<Summary> summaries;
-  bool ok = true;
-  for (const Specimen& s : specimens) {
-    for (const Plane& p : kPlanes) {
-      Scene scene = specimenScene(s.box, kAlignedFibres, kHunterVirtualHexahedron);
-      const double volume = s.box.cells[0] * s.box.cells[1] * s.box.cells[2] * kVoxel * kVoxel *
-                            kVoxel;
-      Summary sum{s.name, planeName(p)};
-      const SpecimenRun run = shearSpecimen(
-          scene.system, p.normal, p.direction, kMaxShear, steps, equilibriumParams(scene),
-          [&](const ShearRow& r) {
-            Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
-            F(p.direction, p.normal) = r.shear;
-            const double homogeneous = volume * hunterEnergy(Eigen::Matrix3d::Identity(), F);
-            const double difference = r.energy > 0.0 ? r.work / r.energy - 1.0 : 0.0;
-            if (r.shear >= 0.1 - 1e-12)
-              sum.maxDifference = std::max(sum.maxDifference, std::abs(difference));
-            sum.gamma = r.shear;
-            sum.work = r.work;
-            sum.energy = r.energy;
-            sum.homogeneous = homogeneous;
-            char line[256];
-            std::snprintf(line, sizeof line, "%s,%s,%.6g,%.9g,%.9g,%.9g,%.6g\n", s.name,
-                          sum.plane.c_str(), r.shear, r.work, r.energy, homogeneous, difference);
-            csv << line;
-          });
-      if (!run.ok) {
-        sum.failure = run.failure;
-        ok = false;
+    std::ofstream csv = openCsv(o.out + "/shear.csv");
+    csv << "specimen,plane,shear,work_J,energy_J,homogeneous_energy_J,relative_difference\n";
+    std::vector<Summary> summaries;
+    bool ok = true;
+    for (const Specimen& s : specimens) {
+      for (const Plane& p : kPlanes) {
+        Scene scene = specimenScene(s.box, kAlignedFibres, kHunterVirtualHexahedron);
+        const double volume =
+            s.box.cells[0] * s.box.cells[1] * s.box.cells[2] * kVoxel * kVoxel * kVoxel;
+        Summary sum{s.name, planeName(p)};
+        const SpecimenRun run = shearSpecimen(
+            scene.system, p.normal, p.direction, kMaxShear, steps, equilibriumParams(scene),
+            [&](const ShearRow& r) {
+              Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
+              F(p.direction, p.normal) = r.shear;
+              const double homogeneous = volume * hunterEnergy(Eigen::Matrix3d::Identity(), F);
+              const double difference = r.energy > 0.0 ? r.work / r.energy - 1.0 : 0.0;
+              if (r.shear >= 0.1 - 1e-12)
+                sum.maxDifference = std::max(sum.maxDifference, std::abs(difference));
+              sum.gamma = r.shear;
+              sum.work = r.work;
+              sum.energy = r.energy;
+              sum.homogeneous = homogeneous;
+              char line[256];
+              std::snprintf(line, sizeof line, "%s,%s,%.6g,%.9g,%.9g,%.9g,%.6g\n", s.name,
+                            sum.plane.c_str(), r.shear, r.work, r.energy, homogeneous, difference);
+              csv << line;
+            });
+        if (!run.ok) {
+          sum.failure = run.failure;
+          ok = false;
+        }
+        summaries.push_back(sum);
       }
-      summaries.push_back(sum);
     }
-  }
-  csv.close();
+    csv.close();
 
-  std::printf("Simple shear to gamma = %.2f (Sec. 2.8.1), Hunter law through the virtual "
-              "hexahedron, %d steps; plane = normal of the moved face, then its direction "
-              "(f fibre x, s sheet y, n sheet-normal z)\n",
-              kMaxShear, steps);
-  std::printf("%-14s %-5s %6s %13s %13s %13s %12s %14s\n", "specimen", "plane", "gamma",
-              "work (J)", "energy (J)", "work/energy-1", "max |w/e-1|", "energy/homog.");
-  for (const Summary& s : summaries) {
-    std::printf("%-14s %-5s %6.3f %13.6e %13.6e %13.3e %12.3e %14.4f%s\n", s.specimen.c_str(),
-                s.plane.c_str(), s.gamma, s.work, s.energy, s.work / s.energy - 1.0,
-                s.maxDifference, s.energy / s.homogeneous, s.failure.empty() ? "" : "  (stopped)");
-    if (!s.failure.empty()) std::printf("    %s\n", s.failure.c_str());
-  }
-  std::printf("CSV: %s/shear.csv\n", o.out.c_str());
-  plot(o, "shear");
-  return ok ? 0 : 3;
+    std::printf(
+        "Simple shear to gamma = %.2f (Sec. 2.8.1), Hunter law through the virtual "
+        "hexahedron, %d steps; plane = normal of the moved face, then its direction "
+        "(f fibre x, s sheet y, n sheet-normal z)\n",
+        kMaxShear, steps);
+    std::printf("%-14s %-5s %6s %13s %13s %13s %12s %14s\n", "specimen", "plane", "gamma",
+                "work (J)", "energy (J)", "work/energy-1", "max |w/e-1|", "energy/homog.");
+    for (const Summary& s : summaries) {
+      std::printf("%-14s %-5s %6.3f %13.6e %13.6e %13.3e %12.3e %14.4f%s\n", s.specimen.c_str(),
+                  s.plane.c_str(), s.gamma, s.work, s.energy, s.work / s.energy - 1.0,
+                  s.maxDifference, s.energy / s.homogeneous,
+                  s.failure.empty() ? "" : "  (stopped)");
+      if (!s.failure.empty()) std::printf("    %s\n", s.failure.c_str());
+    }
+    std::printf("CSV: %s/shear.csv\n", o.out.c_str());
+    plot(o, "shear");
+    return ok ? 0 : 3;
+  });
 }
 
 }  // namespace bench_adamss

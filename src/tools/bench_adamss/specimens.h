@@ -4,6 +4,8 @@
 // voxels with the fibre frame and force models given), the energy and work of a quasi-static
 // stretch, and an evaluation of the Hunter law (Eq. 2.153, Table 2.1) written out apart from
 // the law the models use (material/hunter.h), so that the theory curves do not share its code.
+#include <unistd.h>
+
 #include <Eigen/Dense>
 #include <array>
 #include <cmath>
@@ -13,7 +15,6 @@
 #include <fstream>
 #include <stdexcept>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 #include "experiments.h"
@@ -62,10 +63,30 @@ inline bool parseCommon(const char* experiment, const Args& args, CommonOptions&
 // Python or matplotlib is a note, not a failure of the experiment.
 inline void plot(const CommonOptions& o, const char* experiment) {
   if (!o.plot) return;
+  std::fflush(stdout);  // the table before the script's own lines
   const std::string command = "/usr/bin/python3 '" + std::string(TT_SOURCE_ROOT) +
                               "/scripts/report/adamss_material.py' '" + o.out + "' " + experiment;
   if (std::system(command.c_str()) != 0)
     std::fprintf(stderr, "bench_adamss %s: no plot (%s failed)\n", experiment, command.c_str());
+}
+
+// Runs an experiment's body, turning an exception (a scene or file problem) into one line on
+// stderr and exit code 1.
+template <class Body>
+int reportingErrors(const char* experiment, const Body& body) {
+  try {
+    return body();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_adamss %s: %s\n", experiment, e.what());
+    return 1;
+  }
+}
+
+// A CSV file for writing; throws std::runtime_error when it cannot be opened.
+inline std::ofstream openCsv(const std::string& path) {
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error("cannot write " + path);
+  return out;
 }
 
 // --- specimens -------------------------------------------------------------------------------
@@ -112,9 +133,7 @@ inline EquilibriumParams equilibriumParams(Scene& scene) {
 }
 
 // The energy of the force models (no body loads in these scenes).
-inline double modelEnergy(const System& system) {
-  return system.potentialEnergy(system.state.x);
-}
+inline double modelEnergy(const System& system) { return system.potentialEnergy(system.state.x); }
 
 // --- the Hunter law (Eq. 2.153, Table 2.1), in Pa -----------------------------------------------
 

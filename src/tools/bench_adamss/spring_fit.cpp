@@ -223,8 +223,8 @@ Springs fitSprings(const Box& box, const Box& voxel, const char* specimen, const
       if (kind == 0) std::snprintf(factorText, sizeof factorText, "%.6g", factor[i]);
       char line[320];
       std::snprintf(line, sizeof line, "%s,%s,%s,%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%s\n", specimen,
-                    topology, kind == 0 ? "axial" : "torsion", name, t[0], t[1], f[0], f[1],
-                    u[0], u[1], factorText);
+                    topology, kind == 0 ? "axial" : "torsion", name, t[0], t[1], f[0], f[1], u[0],
+                    u[1], factorText);
       coefficients << line;
       std::printf("  %-8s %-7s %9.4g %10.5g %9.4g %10.5g %10.4g %11.5g %8s\n",
                   kind == 0 ? "axial" : "torsion", name, t[0], t[1], f[0], f[1], u[0], u[1],
@@ -239,8 +239,8 @@ void compare(const Box& box, const Box& voxel, const char* specimen, const char*
              const Springs& fitted, int steps, std::ofstream& csv, bool& ok) {
   std::printf("  %-10s %-7s %12s %12s %16s %14s\n", "springs", "axis", "max |rel|", "rms rel",
               "at 20 % (kPa)", "Hunter (kPa)");
-  for (const auto& [name, k] : {std::make_pair("table_2.2", kTable22),
-                                std::make_pair("fitted", fitted)}) {
+  for (const auto& [name, k] :
+       {std::make_pair("table_2.2", kTable22), std::make_pair("fitted", fitted)}) {
     for (int shear = 0; shear < 2; ++shear)
       for (int i = 0; i < 3; ++i) {
         const Curve c = shear ? shearCurve(voxel, k, i, steps) : stretchCurve(box, k, i, steps);
@@ -271,45 +271,48 @@ void compare(const Box& box, const Box& voxel, const char* specimen, const char*
 }  // namespace
 
 int runSpringFit(const Args& args) {
-  CommonOptions o;
-  if (!parseCommon("spring_fit", args, o)) return 2;
-  const int steps = o.quick ? 4 : 20;
-  struct Specimen {
-    const char* name;
-    Box box;
-  };
-  // The chapter's patch, and the same voxels as hexes (no tet split) beside it.
-  std::vector<Specimen> specimens = {{"voxel", {{1, 1, 1}, "six"}}};
-  if (!o.quick)
-    specimens = {{"patch_6x6x10", {{6, 6, 10}, "six"}}, {"patch_6x6x10", {{6, 6, 10}, "none"}}};
+  return reportingErrors("spring_fit", [&] {
+    CommonOptions o;
+    if (!parseCommon("spring_fit", args, o)) return 2;
+    const int steps = o.quick ? 4 : 20;
+    struct Specimen {
+      const char* name;
+      Box box;
+    };
+    // The chapter's patch, and the same voxels as hexes (no tet split) beside it.
+    std::vector<Specimen> specimens = {{"voxel", {{1, 1, 1}, "six"}}};
+    if (!o.quick)
+      specimens = {{"patch_6x6x10", {{6, 6, 10}, "six"}}, {"patch_6x6x10", {{6, 6, 10}, "none"}}};
 
-  std::ofstream csv(o.out + "/spring_fit.csv");
-  csv << "specimen,topology,coefficients,measure,axis,strain,value_Pa,theory_Pa,relative_error\n";
-  std::ofstream coefficients(o.out + "/spring_fit_coefficients.csv");
-  coefficients << "specimen,topology,springs,axis,table22_k1_kPa,table22_k3_kPa,fitted_k1_kPa,"
-                  "fitted_k3_kPa,unconstrained_k1_kPa,unconstrained_k3_kPa,small_strain_factor\n";
-  std::printf("Cubic axial and torsion springs (Sec. 2.8.1, Table 2.2) against the Hunter law: "
-              "uniaxial stress to 20 %% strain, shear energy density W of the voxel to gamma = "
-              "0.2, %d steps; axial fits by least squares on the stress, torsion fits on W, "
-              "k >= 0; factor = small-strain stress / (k_1 eps)\n",
-              steps);
-  bool ok = true;
-  for (const Specimen& s : specimens) {
-    const bool hexes = s.box.split == std::string("none");
-    const char* topology = hexes ? "hex" : "tet";
-    const Box voxel{{1, 1, 1}, s.box.split};
-    std::printf("%s (%d %s), shear on the voxel (%d %s):\n", s.name,
-                s.box.cells[0] * s.box.cells[1] * s.box.cells[2] * (hexes ? 1 : 6),
-                hexes ? "hexes" : "tets", hexes ? 1 : 6, hexes ? "hex" : "tets");
-    const Springs fitted = fitSprings(s.box, voxel, s.name, topology, steps, coefficients, ok);
-    compare(s.box, voxel, s.name, topology, fitted, steps, csv, ok);
-  }
-  csv.close();
-  coefficients.close();
-  std::printf("CSV: %s/spring_fit.csv, %s/spring_fit_coefficients.csv\n", o.out.c_str(),
-              o.out.c_str());
-  plot(o, "spring_fit");
-  return ok ? 0 : 3;
+    std::ofstream csv = openCsv(o.out + "/spring_fit.csv");
+    csv << "specimen,topology,coefficients,measure,axis,strain,value_Pa,theory_Pa,relative_error\n";
+    std::ofstream coefficients = openCsv(o.out + "/spring_fit_coefficients.csv");
+    coefficients << "specimen,topology,springs,axis,table22_k1_kPa,table22_k3_kPa,fitted_k1_kPa,"
+                    "fitted_k3_kPa,unconstrained_k1_kPa,unconstrained_k3_kPa,small_strain_factor\n";
+    std::printf(
+        "Cubic axial and torsion springs (Sec. 2.8.1, Table 2.2) against the Hunter law: "
+        "uniaxial stress to 20 %% strain, shear energy density W of the voxel to gamma = "
+        "0.2, %d steps; axial fits by least squares on the stress, torsion fits on W, "
+        "k >= 0; factor = small-strain stress / (k_1 eps)\n",
+        steps);
+    bool ok = true;
+    for (const Specimen& s : specimens) {
+      const bool hexes = s.box.split == std::string("none");
+      const char* topology = hexes ? "hex" : "tet";
+      const Box voxel{{1, 1, 1}, s.box.split};
+      std::printf("%s (%d %s), shear on the voxel (%d %s):\n", s.name,
+                  s.box.cells[0] * s.box.cells[1] * s.box.cells[2] * (hexes ? 1 : 6),
+                  hexes ? "hexes" : "tets", hexes ? 1 : 6, hexes ? "hex" : "tets");
+      const Springs fitted = fitSprings(s.box, voxel, s.name, topology, steps, coefficients, ok);
+      compare(s.box, voxel, s.name, topology, fitted, steps, csv, ok);
+    }
+    csv.close();
+    coefficients.close();
+    std::printf("CSV: %s/spring_fit.csv, %s/spring_fit_coefficients.csv\n", o.out.c_str(),
+                o.out.c_str());
+    plot(o, "spring_fit");
+    return ok ? 0 : 3;
+  });
 }
 
 }  // namespace bench_adamss

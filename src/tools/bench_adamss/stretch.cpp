@@ -59,9 +59,14 @@ CaseSummary clampedStretch(const Box& box, const char* specimen, const std::stri
   Scene scene = specimenScene(box, fibres, kHunterVirtualHexahedron);
   System& system = scene.system;
   const double height = specimenFaces(system.mesh, axis).height;
-  CaseSummary sum{specimen, box.split == std::string("none") ? "hex" : "tet", "clamped",
-                  turned ? "z (turned frame)" : kFrameAxisName[axis], elementCount(system.mesh),
-                  {}, 0.0, ""};
+  CaseSummary sum{specimen,
+                  box.split == std::string("none") ? "hex" : "tet",
+                  "clamped",
+                  turned ? "z (turned frame)" : kFrameAxisName[axis],
+                  elementCount(system.mesh),
+                  {},
+                  0.0,
+                  ""};
   Eigen::Matrix<double, 5, 1> guess = Eigen::Matrix<double, 5, 1>::Zero();
   double work = 0.0, previousForce = 0.0;
   Row last;
@@ -70,8 +75,8 @@ CaseSummary clampedStretch(const Box& box, const char* specimen, const std::stri
         work += kMaxStrain / steps * height * 0.5 * (r.force + previousForce) *
                 (r.strain > 0.0 ? 1.0 : 0.0);
         previousForce = r.force;
-        Row row{sum.specimen, sum.topology, sum.loading, sum.axis, sum.elements, r.strain,
-                r.stress};
+        Row row{sum.specimen, sum.topology, sum.loading, sum.axis,
+                sum.elements, r.strain,     r.stress};
         row.theoryPa = turned ? hunterRotatedUniaxialStress(*turned, r.stretch, guess)
                               : hunterUniaxialStress(axis, r.stretch);
         if (r.strain > 0.0) {
@@ -101,15 +106,20 @@ CaseSummary tractionStretch(const Box& box, const char* specimen, const Eigen::M
   System& system = scene.system;
   const Mesh& mesh = system.mesh;
   const SpecimenFaces faces = specimenFaces(mesh, 2);
-  CaseSummary sum{specimen, box.split == std::string("none") ? "hex" : "tet", "traction",
-                  "z (turned frame)", elementCount(mesh), {}, 0.0, ""};
+  CaseSummary sum{specimen,
+                  box.split == std::string("none") ? "hex" : "tet",
+                  "traction",
+                  "z (turned frame)",
+                  elementCount(mesh),
+                  {},
+                  0.0,
+                  ""};
 
   std::vector<double> load(mesh.numNodes(), 0.0);  // share of the end-face area, signed
   const double zLow = mesh.rest.row(2).minCoeff(), zHigh = zLow + faces.height;
   const double tolerance = 1e-6 * faces.height;
   for (const Triangle& t : mesh.surface) {
-    const Eigen::Vector3d a = mesh.rest.col(t[0]), b = mesh.rest.col(t[1]),
-                          c = mesh.rest.col(t[2]);
+    const Eigen::Vector3d a = mesh.rest.col(t[0]), b = mesh.rest.col(t[1]), c = mesh.rest.col(t[2]);
     const double area = 0.5 * (b - a).cross(c - a).norm();
     for (double end : {zLow, zHigh})
       if (std::abs(a.z() - end) < tolerance && std::abs(b.z() - end) < tolerance &&
@@ -152,16 +162,15 @@ CaseSummary tractionStretch(const Box& box, const char* specimen, const Eigen::M
     previousStretch = target;
     const EquilibriumReport report = solver.solve(system, x);
     if (!report.converged()) {
-      sum.failure = "equilibrium failed at strain " + std::to_string(target - 1.0) + ": " +
-                    report.reason;
+      sum.failure =
+          "equilibrium failed at strain " + std::to_string(target - 1.0) + ": " + report.reason;
       break;
     }
     work += (x - previousX).dot(system.externalForce + previousF) / 2.0;  // Eq. 2.151
     previousX = x;
     previousF = system.externalForce;
     const double stretch = (x[3 * top + 2] - x[3 * bottom + 2]) / faces.height;
-    Row row{sum.specimen, sum.topology, sum.loading, sum.axis, sum.elements, stretch - 1.0,
-            stress};
+    Row row{sum.specimen, sum.topology, sum.loading, sum.axis, sum.elements, stretch - 1.0, stress};
     row.theoryPa = hunterRotatedUniaxialStress(B, stretch, guess);
     row.relativeError = (row.stressPa - row.theoryPa) / row.theoryPa;
     sum.stress.add(row.relativeError);
@@ -175,7 +184,7 @@ CaseSummary tractionStretch(const Box& box, const char* specimen, const Eigen::M
 }
 
 void writeCsv(const std::string& path, const std::vector<Row>& rows) {
-  std::ofstream out(path);
+  std::ofstream out = openCsv(path);
   out << "specimen,topology,loading,axis,elements,strain,stress_Pa,theory_Pa,relative_error,"
          "work_J,energy_J\n";
   char line[512];
@@ -191,60 +200,63 @@ void writeCsv(const std::string& path, const std::vector<Row>& rows) {
 }  // namespace
 
 int runStretch(const Args& args) {
-  CommonOptions o;
-  if (!parseCommon("stretch", args, o)) return 2;
-  const int steps = o.quick ? 4 : 20;
-  struct Specimen {
-    const char* name;
-    Box box;
-  };
-  std::vector<Specimen> aligned = {{"voxel", {{1, 1, 1}, "six"}}, {"voxel", {{1, 1, 1}, "none"}}};
-  if (!o.quick) {
-    aligned.push_back({"cuboid_4x4x8", {{4, 4, 8}, "six"}});
-    aligned.push_back({"cuboid_4x4x8", {{4, 4, 8}, "none"}});
-  }
-  std::vector<Row> rows;
-  std::vector<CaseSummary> summaries;
-  for (const Specimen& s : aligned)
-    for (int axis = 0; axis < 3; ++axis)
-      summaries.push_back(
-          clampedStretch(s.box, s.name, kAlignedFibres, nullptr, axis, steps, rows));
-  if (!o.quick) {
-    const Eigen::Matrix3d B = fibreFrameFromAngles(kPhiDeg, kThetaDeg);
-    char fibres[96];
-    std::snprintf(fibres, sizeof fibres, "{angles_deg: [%.17g, %.17g]}", kPhiDeg, kThetaDeg);
-    // On hexes with axes oblique to the edges the virtual hexahedron's force is not the
-    // gradient of its energy and has no hourglass stiffness (docs/adamss.md): the equilibrium
-    // solve of the turned cuboid does not converge, which the table shows.
-    for (const char* split : {"six", "none"}) {
-      const Box box{{4, 4, 8}, split};
-      summaries.push_back(tractionStretch(box, "cuboid_4x4x8_turned", B, steps, rows));
-      summaries.push_back(clampedStretch(box, "cuboid_4x4x8_turned", fibres, &B, 2, steps, rows));
+  return reportingErrors("stretch", [&] {
+    CommonOptions o;
+    if (!parseCommon("stretch", args, o)) return 2;
+    const int steps = o.quick ? 4 : 20;
+    struct Specimen {
+      const char* name;
+      Box box;
+    };
+    std::vector<Specimen> aligned = {{"voxel", {{1, 1, 1}, "six"}}, {"voxel", {{1, 1, 1}, "none"}}};
+    if (!o.quick) {
+      aligned.push_back({"cuboid_4x4x8", {{4, 4, 8}, "six"}});
+      aligned.push_back({"cuboid_4x4x8", {{4, 4, 8}, "none"}});
     }
-  }
-  writeCsv(o.out + "/stretch.csv", rows);
+    std::vector<Row> rows;
+    std::vector<CaseSummary> summaries;
+    for (const Specimen& s : aligned)
+      for (int axis = 0; axis < 3; ++axis)
+        summaries.push_back(
+            clampedStretch(s.box, s.name, kAlignedFibres, nullptr, axis, steps, rows));
+    if (!o.quick) {
+      const Eigen::Matrix3d B = fibreFrameFromAngles(kPhiDeg, kThetaDeg);
+      char fibres[96];
+      std::snprintf(fibres, sizeof fibres, "{angles_deg: [%.17g, %.17g]}", kPhiDeg, kThetaDeg);
+      // On hexes with axes oblique to the edges the virtual hexahedron's force is not the
+      // gradient of its energy and has no hourglass stiffness (docs/adamss.md): the equilibrium
+      // solve of the turned cuboid does not converge, which the table shows.
+      for (const char* split : {"six", "none"}) {
+        const Box box{{4, 4, 8}, split};
+        summaries.push_back(tractionStretch(box, "cuboid_4x4x8_turned", B, steps, rows));
+        summaries.push_back(clampedStretch(box, "cuboid_4x4x8_turned", fibres, &B, 2, steps, rows));
+      }
+    }
+    writeCsv(o.out + "/stretch.csv", rows);
 
-  std::printf("Uniaxial stretch to %.0f %% (Sec. 2.8.1), Hunter law through the virtual "
-              "hexahedron, %d steps\n",
-              100 * kMaxStrain, steps);
-  std::printf("%-20s %-4s %-8s %-16s %8s %12s %12s %14s\n", "specimen", "topo", "ends", "axis",
-              "elements", "max |rel|", "rms rel", "work/energy-1");
-  // The turned frame on hexes is not expected to converge (see the loop below); any other
-  // stopped case is a failure of the experiment.
-  bool ok = true;
-  for (const CaseSummary& s : summaries) {
-    std::printf("%-20s %-4s %-8s %-16s %8d", s.specimen.c_str(), s.topology.c_str(),
-                s.loading.c_str(), s.axis.c_str(), s.elements);
-    if (s.stress.count > 0 && s.failure.empty())
-      std::printf(" %12.3e %12.3e %14.3e\n", s.stress.max, s.stress.rms(), s.workEnergy);
-    else
-      std::printf(" %12s %12s %14s  (stopped: %s)\n", "-", "-", "-", s.failure.c_str());
-    const bool turnedHex = s.topology == "hex" && s.specimen == "cuboid_4x4x8_turned";
-    if (!s.failure.empty() && !turnedHex) ok = false;
-  }
-  std::printf("CSV: %s/stretch.csv\n", o.out.c_str());
-  plot(o, "stretch");
-  return ok ? 0 : 3;
+    std::printf(
+        "Uniaxial stretch to %.0f %% (Sec. 2.8.1), Hunter law through the virtual "
+        "hexahedron, %d steps\n",
+        100 * kMaxStrain, steps);
+    std::printf("%-20s %-4s %-8s %-16s %8s %12s %12s %14s\n", "specimen", "topo", "ends", "axis",
+                "elements", "max |rel|", "rms rel", "work/energy-1");
+    // The turned frame on hexes is not expected to converge (see the loop below); any other
+    // stopped case is a failure of the experiment.
+    bool ok = true;
+    for (const CaseSummary& s : summaries) {
+      std::printf("%-20s %-4s %-8s %-16s %8d", s.specimen.c_str(), s.topology.c_str(),
+                  s.loading.c_str(), s.axis.c_str(), s.elements);
+      if (s.stress.count > 0 && s.failure.empty())
+        std::printf(" %12.3e %12.3e %14.3e\n", s.stress.max, s.stress.rms(), s.workEnergy);
+      else
+        std::printf(" %12s %12s %14s  (stopped: %s)\n", "-", "-", "-", s.failure.c_str());
+      const bool turnedHex = s.topology == "hex" && s.specimen == "cuboid_4x4x8_turned";
+      if (!s.failure.empty() && !turnedHex) ok = false;
+    }
+    std::printf("CSV: %s/stretch.csv\n", o.out.c_str());
+    plot(o, "stretch");
+    return ok ? 0 : 3;
+  });
 }
 
 }  // namespace bench_adamss

@@ -130,9 +130,9 @@ TEST(BenchAdamssMaterial, QuickSpringFitIsNoWorseThanTable22) {
     ++rows;
   }
   EXPECT_EQ(rows, 2 * 6 * 4);
-  for (const char* curve : {"uniaxial_stress fibre", "uniaxial_stress sheet",
-                            "uniaxial_stress normal", "shear_energy sf", "shear_energy fn",
-                            "shear_energy ns"}) {
+  for (const char* curve :
+       {"uniaxial_stress fibre", "uniaxial_stress sheet", "uniaxial_stress normal",
+        "shear_energy sf", "shear_energy fn", "shear_energy ns"}) {
     const double table = residual.at(std::string("table_2.2 ") + curve);
     const double fitted = residual.at(std::string("fitted ") + curve);
     EXPECT_LE(fitted, table * (1.0 + 1e-9)) << curve;
