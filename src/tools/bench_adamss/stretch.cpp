@@ -219,8 +219,10 @@ int runStretch(const Args& args) {
       for (int axis = 0; axis < 3; ++axis)
         summaries.push_back(
             clampedStretch(s.box, s.name, kAlignedFibres, nullptr, axis, steps, rows));
-    if (!o.quick) {
-      const Eigen::Matrix3d B = fibreFrameFromAngles(kPhiDeg, kThetaDeg);
+    const Eigen::Matrix3d B = fibreFrameFromAngles(kPhiDeg, kThetaDeg);
+    if (o.quick) {  // the turned frame on a small cube (a node at each face centre)
+      summaries.push_back(tractionStretch({{2, 2, 2}, "six"}, "cube_2x2x2_turned", B, steps, rows));
+    } else {
       char fibres[96];
       std::snprintf(fibres, sizeof fibres, "{angles_deg: [%.17g, %.17g]}", kPhiDeg, kThetaDeg);
       // On hexes with axes oblique to the edges the virtual hexahedron's force is not the

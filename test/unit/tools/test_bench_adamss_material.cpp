@@ -61,7 +61,20 @@ TEST(BenchAdamssMaterial, QuickStretchOfTheVoxelFollowsTheHunterCurve) {
       {"sheet", {88.576, 333.813, 1071.61, 3721.62}},
       {"normal", {33.902, 75.2966, 125.647, 186.897}}};
   std::map<std::string, int> seen;
+  int turned = 0;
   for (const auto& row : readRows(outputDir() / "stretch.csv")) {
+    if (row.at("loading") == "traction") {
+      // The turned frame under the dead traction of the turned law's uniaxial stress (solved at
+      // a point by the benchmark, apart from the law of the models): the 48 tets reach the
+      // stretch at which that stress belongs, to the solver's tolerance.
+      ASSERT_EQ(row.at("specimen"), "cube_2x2x2_turned");
+      if (number(row, "strain") > 0.0) {
+        EXPECT_GT(number(row, "stress_Pa"), 0.0);
+        EXPECT_LT(std::abs(number(row, "relative_error")), 1e-6);
+      }
+      ++turned;
+      continue;
+    }
     ASSERT_EQ(row.at("specimen"), "voxel");
     const double strain = number(row, "strain");
     const int step = static_cast<int>(std::lround(strain / 0.05));
@@ -81,6 +94,7 @@ TEST(BenchAdamssMaterial, QuickStretchOfTheVoxelFollowsTheHunterCurve) {
     EXPECT_GT(work, energy);
     EXPECT_LT(work, 1.25 * energy);
   }
+  EXPECT_EQ(turned, 5);
   EXPECT_EQ(seen.size(), 6u);  // tet and hex, three axes
   for (const auto& [curve, rows] : seen) EXPECT_EQ(rows, 5) << curve;
 }
