@@ -64,7 +64,9 @@ int runShear(const Args& args) {
         Scene scene = specimenScene(s.box, kAlignedFibres, kHunterVirtualHexahedron);
         const double volume =
             s.box.cells[0] * s.box.cells[1] * s.box.cells[2] * kVoxel * kVoxel * kVoxel;
-        Summary sum{s.name, planeName(p)};
+        Summary sum;
+        sum.specimen = s.name;
+        sum.plane = planeName(p);
         const SpecimenRun run = shearSpecimen(
             scene.system, p.normal, p.direction, kMaxShear, steps, equilibriumParams(scene),
             [&](const ShearRow& r) {
