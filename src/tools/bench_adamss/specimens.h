@@ -101,7 +101,8 @@ struct Box {
 };
 
 // A scene of the box with `fibres` (a YAML map) and `forceModels` (a YAML list), read by the
-// scene loader from a file in the temporary folder.
+// scene loader from a file in the temporary folder. The material entry's elastic constants are
+// not used by these models (the Hunter law and the springs carry their own).
 inline Scene specimenScene(const Box& box, const std::string& fibres,
                            const std::string& forceModels) {
   char mesh[256];
