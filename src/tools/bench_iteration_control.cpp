@@ -24,7 +24,8 @@
 // fails (the integrator reports a failure or a non-finite state, or an element inverts or
 // goes flat, the stability guard's volume test, for models that cannot take inversion). For
 // each rung it prints whether and when the run failed, the median and largest iteration
-// count, the largest of the last ten attempts and the last step, and, for a run that failed,
+// count, the largest of the last ten attempts, the last and the shortest step, the
+// correlation of the count and of log(step) with the active force, and, for a run that failed,
 // whether the stability guard (the same run under StabilityGuard) gets through.
 //   -> DIR/iteration_instability.csv   ladder,value,t,active_force,iterations,step,rejected
 #include <Eigen/Core>
@@ -348,19 +349,28 @@ void towardsInstability(const std::string& scenePath, const std::string& dir, bo
     std::ostringstream label;
     label << rung.ladder << ',' << rung.value;
     writeRows(csv, label.str(), r.rows);
-    std::vector<double> all;
-    for (const StepRow& row : r.rows) all.push_back(row.iterations);
+    std::vector<double> all, force, iterations, logStep;
+    for (const StepRow& row : r.rows) {
+      all.push_back(row.iterations);
+      if (row.rejected) continue;
+      force.push_back(row.activeForce);
+      iterations.push_back(row.iterations);
+      logStep.push_back(std::log(row.step));
+    }
     const size_t tail = std::min<size_t>(10, all.size());
     const double lastMax = tail ? *std::max_element(all.end() - tail, all.end()) : 0.0;
     const double runMax = all.empty() ? 0.0 : *std::max_element(all.begin(), all.end());
     const double lastStep = r.rows.empty() ? 0.0 : r.rows.back().step;
     std::printf("[ladder] %-20s %8g: %s; %zu attempts, iterations median %g max %g, last 10 "
-                "attempts max %g, last step %.3g s, unconverged GMRES %d; %s\n",
+                "attempts max %g, last step %.3g s, shortest %.3g s, unconverged GMRES %d; "
+                "correlation with the active force: iterations %.3f, log step %.3f; %s\n",
                 rung.ladder.c_str(), rung.value,
                 r.failed ? ("FAILED at t = " + std::to_string(r.failedAt) + " s: " + r.failure).c_str()
                 : r.stopped ? ("stopped at the CPU limit at t = " + std::to_string(r.failedAt) + " s").c_str()
                          : "ran to the end",
-                all.size(), bench::median(all), runMax, lastMax, lastStep, r.unconvergedLinear,
+                all.size(), bench::median(all), runMax, lastMax, lastStep,
+                std::exp(*std::min_element(logStep.begin(), logStep.end())), r.unconvergedLinear,
+                pearson(iterations, force), pearson(logStep, force),
                 r.failed ? guardedOutcome(scenePath, rung.variant, dir).c_str() : "");
     std::fflush(stdout);
   }
