@@ -11,10 +11,12 @@
 //
 // With a = M^-1 F and the Adams-Bashforth predictor of Eqs. 2.138-2.139 (the same in both), the
 // printed corrector is
-//   v+ = v_i + h (5/12 v~ + 8/12 a_i - 1/12 a_i-1),  u+ = u_i + h (5/12 u~ + 8/12 v_i - 1/12 v_i-1)
+//   v+ = v_i + h (5/12 v~ + 8/12 a_i - 1/12 a_i-1),
+//   u+ = u_i + h (5/12 u~ + 8/12 v_i - 1/12 v_i-1)
 // (the predicted velocity where an acceleration belongs, the predicted position where a
 // velocity belongs); the Adams-Moulton corrector is
-//   v+ = v_i + h (5/12 a(u~, v~) + 8/12 a_i - 1/12 a_i-1),  u+ = u_i + h (5/12 v~ + 8/12 v_i - 1/12 v_i-1).
+//   v+ = v_i + h (5/12 a(u~, v~) + 8/12 a_i - 1/12 a_i-1),
+//   u+ = u_i + h (5/12 v~ + 8/12 v_i - 1/12 v_i-1).
 // For y' = f(y) the printed form reads y+ = y_i + h (5/12 y~ + 8/12 f_i - 1/12 f_i-1).
 #include <array>
 #include <cmath>
@@ -80,13 +82,14 @@ void table(const char* title, const Rhs& f, const Rhs& printedTerm,
         const Vec y = integrate(f, printedTerm, exact, end, h, corrector, start);
         errors.push_back(std::abs(y[0] - exact(end)[0]));
       }
-      std::printf("%-40s",
-                  (std::string(corrector == Corrector::kPrinted ? "printed 2.140-2.141" : "Adams-Moulton") +
-                   (start == Start::kExact ? ", exact start" : ", forward Euler start"))
-                      .c_str());
+      const std::string label =
+          std::string(corrector == Corrector::kPrinted ? "printed 2.140-2.141" : "Adams-Moulton") +
+          (start == Start::kExact ? ", exact start" : ", forward Euler start");
+      std::printf("%-40s", label.c_str());
       for (double e : errors) std::printf(" %9.3g", e);
       std::printf("   ");
-      for (size_t k = 1; k < errors.size(); ++k) std::printf(" %5.2f", std::log2(errors[k - 1] / errors[k]));
+      for (size_t k = 1; k < errors.size(); ++k)
+        std::printf(" %5.2f", std::log2(errors[k - 1] / errors[k]));
       std::printf("\n");
     }
 }

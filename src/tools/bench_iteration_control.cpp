@@ -5,13 +5,15 @@
 //   bench_iteration_control [--scene FILE] [--out DIR] [--quick] [--twitch-only]
 //                           [--lower N] [--upper N]
 //
-// The scene (default config/scenes/muscle_twitch.yaml) runs with its integrator replaced by
+// The scene (default config/scenes/muscle_twitch.yaml; its variants are loaded from a copy in
+// DIR, so files it names must be given by absolute paths) runs with its integrator replaced by
 // backward Euler with `adaptive: true`, GMRES and one linearised step (the chapter's), once
 // with the analytic Jacobians, once with finite-difference ones (coloured) and once with the
-// analytic ones and GMRES started from zero (no warm start, as PETSc's default). Every step attempt is
-// recorded as the controller judged it: its start, the sum of the active-tension forces there
-// (normalised to its largest value over the run, the chapter's "normalized active forces
-// sum"), the GMRES iterations, the step length and whether it was redone.
+// analytic ones and GMRES started from zero (no warm start, as PETSc's default). Every step
+// attempt is recorded as the controller judged it: its start, the sum over the free nodes of
+// the magnitudes of the active-tension forces there (normalised to its largest value over the
+// run, the chapter's "normalized active forces sum"), the GMRES iterations, the step length
+// and whether it was redone.
 //   -> DIR/iteration_control.csv   jacobian,t,active_force,iterations,step,rejected
 // Printed: the Pearson correlation of the iteration count with the active force over the
 // kept steps, and the step lengths the controller chose.
@@ -100,9 +102,9 @@ class RecordingControl final : public HalvingDoublingControl {
 
 struct Variant {
   double peak = 0.0, young = 0.0;  // 0: the scene's value
-  bool differences = false;                             // finite-difference Jacobians
-  bool warmStart = true;                                // GMRES from the previous dv
-  double duration = 0.0;                                // 0: the scene's
+  bool differences = false;        // finite-difference Jacobians
+  bool warmStart = true;           // GMRES from the previous dv
+  double duration = 0.0;           // 0: the scene's
   double fixedStep = 0.0;  // > 0: every step this long, the count recorded but not obeyed
   int upper = 0;           // > 0: this upper limit and lower = upper / 3 (else --lower, --upper)
 };
@@ -118,7 +120,7 @@ std::string readFile(const std::string& path) {
   return text.str();
 }
 
-// Replaces the value of `key: number` (its one occurrence) in the scene text.
+// Replaces the value of the first `key: number` in the scene text.
 void setNumber(std::string& text, const std::string& key, double value) {
   const std::regex pattern(key + R"(:\s*[-+0-9.eE]+)");
   if (!std::regex_search(text, pattern)) {
@@ -316,7 +318,8 @@ std::vector<Rung> ladders(bool quick) {
     v.duration = duration;
     rungs.push_back({"peak_tension_kPa", peak, v});
   }
-  for (double peak : quick ? std::vector<double>{300, 3000} : std::vector<double>{300, 1000, 3000}) {
+  for (double peak :
+       quick ? std::vector<double>{300, 3000} : std::vector<double>{300, 1000, 3000}) {
     Variant v;  // the same twitches at a fixed step: the count as it comes
     v.peak = peak;
     v.duration = duration;
@@ -339,6 +342,17 @@ std::vector<Rung> ladders(bool quick) {
     rungs.push_back({"upper_iterations_at_1000kPa", static_cast<double>(upper), v});
   }
   return rungs;
+}
+
+std::string outcome(const RunResult& r) {
+  char text[600];
+  if (r.failed)
+    std::snprintf(text, sizeof text, "FAILED at t = %.6f s: %s", r.failedAt, r.failure.c_str());
+  else if (r.stopped)
+    std::snprintf(text, sizeof text, "stopped at the CPU limit at t = %.6f s", r.failedAt);
+  else
+    std::snprintf(text, sizeof text, "ran to the end");
+  return text;
 }
 
 void towardsInstability(const std::string& scenePath, const std::string& dir, bool quick) {
@@ -365,9 +379,7 @@ void towardsInstability(const std::string& scenePath, const std::string& dir, bo
                 "attempts max %g, last step %.3g s, shortest %.3g s, unconverged GMRES %d; "
                 "correlation with the active force: iterations %.3f, log step %.3f; %s\n",
                 rung.ladder.c_str(), rung.value,
-                r.failed ? ("FAILED at t = " + std::to_string(r.failedAt) + " s: " + r.failure).c_str()
-                : r.stopped ? ("stopped at the CPU limit at t = " + std::to_string(r.failedAt) + " s").c_str()
-                         : "ran to the end",
+                outcome(r).c_str(),
                 all.size(), bench::median(all), runMax, lastMax, lastStep,
                 std::exp(*std::min_element(logStep.begin(), logStep.end())), r.unconvergedLinear,
                 pearson(iterations, force), pearson(logStep, force),

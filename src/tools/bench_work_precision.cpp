@@ -139,7 +139,8 @@ std::vector<IntegratorSpec> abm3Sweep(const Problem& p, bool quick) {
 // sample interval (which bound the step). The sweep is over the upper limit: a higher one
 // lets the steps grow longer.
 std::vector<IntegratorSpec> iterationControlSweep(const Problem& p, bool quick) {
-  const std::vector<int> uppers = quick ? std::vector<int>{40} : std::vector<int>{10, 20, 40, 80, 160};
+  const std::vector<int> uppers =
+      quick ? std::vector<int>{40} : std::vector<int>{10, 20, 40, 80, 160};
   const double shortest = *std::min_element(p.implicitSteps.begin(), p.implicitSteps.end());
   std::vector<IntegratorSpec> specs;
   for (int upper : uppers) {
