@@ -143,7 +143,8 @@ def load_runs(rows):
 
 COLOURS = {"newtonian": "tab:blue", "symplectic_euler": "tab:cyan", "explicit_euler": "tab:gray",
            "backward_euler": "tab:orange", "backward_euler_newton": "tab:red",
-           "radau_iia": "tab:green", "static_newton": "tab:purple"}
+           "radau_iia": "tab:green", "static_newton": "tab:purple",
+           "backward_euler_adaptive": "tab:brown"}
 MARKERS = {"edge_length": "o", "edge_length_literal": "s", "stvk_displacement": "^",
            "stvk_displacement_paper_literal": "v", "tensor_mass": "D"}
 FLOOR = 1e-16  # exact results are drawn here on the log axis

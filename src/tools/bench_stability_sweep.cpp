@@ -15,6 +15,8 @@
 //      recovered  the bare run fails, the guarded run passes (the guard's halvings counted);
 //      failed     both fail (the guard ends the run with its message).
 //    -> stability_sweep.csv
+//    The adaptive steppers of the Adamss chapter (abm3, backward_euler_adaptive) run frames of
+//    h with h their first and longest step (makeAdaptiveStepper).
 // 2. The explicit limit: for each material the largest step at which symplectic Euler and the
 //    Newtonian scheme stay stable (bisection in log h over 300-step runs), beside the
 //    critical step h_c = L / c ("Adamss: Advanced Anisotropic Mass-Spring System", Eq. 2.150;
@@ -109,6 +111,35 @@ bool toleratesInversion(const System& s) {
                      [](const auto& m) { return m->toleratesInversion(); });
 }
 
+// ---- the adaptive steppers of "Adamss: Advanced Anisotropic Mass-Spring System" ------------
+// Sec. 2.5.4 (abm3: halving/doubling on the predictor-corrector difference) and Sec. 2.5.5
+// (backward_euler_adaptive: the iteration-count control, GMRES). For them h is the frame: the
+// first step and the longest one (a step is cut to the frame's end); the controller may halve
+// it six times, down to h / 64, as the stability guard does (abm3: a shorter proposal fails
+// the frame; backward Euler keeps its steps at h / 64 whatever they need).
+
+const std::vector<std::string> kAdaptiveIntegrators = {"backward_euler_adaptive", "abm3"};
+
+bool isAdaptiveStepper(const std::string& name) {
+  return std::find(kAdaptiveIntegrators.begin(), kAdaptiveIntegrators.end(), name) !=
+         kAdaptiveIntegrators.end();
+}
+
+std::unique_ptr<Integrator> makeAdaptiveStepper(const std::string& name, double h) {
+  if (name == "abm3") {
+    Abm3Params p;
+    p.timeStep = h;
+    p.minStep = h / 64.0;
+    return std::make_unique<Abm3Integrator>(p);
+  }
+  BackwardEulerParams p;  // lower_iterations 10, upper_iterations 40: the defaults
+  p.adaptive = true;
+  p.linearSolver = BackwardEulerParams::LinearSolver::kGmres;
+  p.initialStep = h;
+  p.minStep = h / 64.0;
+  return std::make_unique<BackwardEulerIntegrator>(p);
+}
+
 // ---- integrators by name, stepping h ---------------------------------------------------------
 
 const std::vector<std::string> kIntegrators = {"explicit_euler", "symplectic_euler", "newtonian",
@@ -133,6 +164,7 @@ std::unique_ptr<Integrator> makeStepper(const std::string& name, double h) {
     p.timeStep = h;
     return std::make_unique<Abm3Integrator>(p);
   }
+  if (isAdaptiveStepper(name)) return makeAdaptiveStepper(name, h);
   RadauOptions o;  // radau_iia_fixed: fixed steps of h, Newton must converge
   o.adaptive = false;
   o.initialStep = h;
@@ -238,6 +270,8 @@ Grid grid(bool quick) {
     g.steps = {1e-4, 1e-2};
     g.models = {"edge_length", "stvk_displacement"};
     g.integrators = {"symplectic_euler", "backward_euler"};
+    g.integrators.insert(g.integrators.end(), kAdaptiveIntegrators.begin(),
+                         kAdaptiveIntegrators.end());
     return g;
   }
   g.young = {1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
@@ -245,6 +279,8 @@ Grid grid(bool quick) {
   g.steps = {1e-5, 1e-4, 1e-3, 1e-2, 1e-1};
   g.models = bench::elasticModelNames();
   g.integrators = kIntegrators;
+  g.integrators.insert(g.integrators.end(), kAdaptiveIntegrators.begin(),
+                       kAdaptiveIntegrators.end());
   return g;
 }
 
@@ -446,11 +482,13 @@ void sweepExtremes(bool quick, const std::string& path) {
   const double young = 1e4, poisson = 0.45;
   const std::vector<std::string> models =
       quick ? std::vector<std::string>{"edge_length"} : std::vector<std::string>{"edge_length", "stvk_displacement", "tensor_mass"};
-  const std::vector<std::pair<std::string, double>> steppers =
+  std::vector<std::pair<std::string, double>> steppers =
       quick ? std::vector<std::pair<std::string, double>>{{"backward_euler", 1e-3}}
             : std::vector<std::pair<std::string, double>>{
                   {"symplectic_euler", 1e-4}, {"newtonian", 1e-4}, {"backward_euler", 1e-3},
                   {"backward_euler", 1e-2}, {"radau_iia_fixed", 1e-3}, {"abm3_fixed", 1e-4}};
+  // The adaptive steppers of the Adamss chapter (frames of h, see makeAdaptiveStepper).
+  if (!quick) steppers.insert(steppers.end(), {{"backward_euler_adaptive", 1e-3}, {"abm3", 1e-3}});
   for (const Case& c : extremeCases())
     for (const auto& [integrator, h] : steppers)
       for (const std::string& model : models) {

@@ -13,7 +13,9 @@
 // models (edge_length, tensor_mass), one step or tolerance per integrator, looser references.
 // Writes DIR/work_precision.csv (one row per run) and DIR/work_precision_facts.csv (the
 // analytic values, references and their accuracy).
-//   bench_work_precision [--quick] [--out DIR] [--problems a,b] [--models a,b] [--time-limit S]
+//   bench_work_precision [--quick] [--out DIR] [--problems a,b] [--models a,b]
+//                        [--integrators a,b] [--time-limit S]
+// --integrators: the runs of these integrators only (static_newton: the mesh-refinement runs).
 // --time-limit: CPU seconds per run (default 20; 3 with --quick); a run past it stops and is
 // listed without an error.
 #include <algorithm>
@@ -44,6 +46,7 @@ struct Options {
   bool quick = false;
   std::string out = "docs/report";
   std::vector<std::string> problems, models;  // empty: all
+  std::vector<std::string> integrators;       // empty: all
   double timeLimit = 20.0;                    // s of CPU time per run
 };
 
@@ -129,11 +132,40 @@ std::vector<IntegratorSpec> abm3Sweep(const Problem& p, bool quick) {
   return specs;
 }
 
+// ---- backward Euler under the iteration-count step control -------------------------------------
+// "Adamss: Advanced Anisotropic Mass-Spring System", Sec. 2.5.5: GMRES, one linearised step, the
+// step halved when the Krylov iterations reach upper_iterations and doubled at lower_iterations
+// = upper / 4 or below, from the shortest step of the backward Euler sweep, in frames of the
+// sample interval (which bound the step). The sweep is over the upper limit: a higher one
+// lets the steps grow longer.
+std::vector<IntegratorSpec> iterationControlSweep(const Problem& p, bool quick) {
+  const std::vector<int> uppers =
+      quick ? std::vector<int>{40} : std::vector<int>{10, 20, 40, 80, 160};
+  const double shortest = *std::min_element(p.implicitSteps.begin(), p.implicitSteps.end());
+  std::vector<IntegratorSpec> specs;
+  for (int upper : uppers) {
+    BackwardEulerParams params;
+    params.adaptive = true;
+    params.linearSolver = BackwardEulerParams::LinearSolver::kGmres;
+    params.linearMaxIterations = 2000;
+    params.upperIterations = upper;
+    params.lowerIterations = upper / 4;
+    params.maxStep = p.sampleInterval;
+    params.initialStep = std::min(shortest, p.sampleInterval);
+    params.minStep = 1e-3 * params.initialStep;
+    specs.push_back({"backward_euler_adaptive", "upper_iterations", static_cast<double>(upper),
+                     p.sampleInterval,
+                     [params] { return std::make_unique<BackwardEulerIntegrator>(params); }});
+  }
+  return specs;
+}
+
 std::vector<IntegratorSpec> allIntegrators(const Problem& p, bool quick) {
   std::vector<IntegratorSpec> specs = explicitSweep(p, quick);
   for (auto& s : backwardEulerSweep(p, quick)) specs.push_back(s);
   for (auto& s : radauSweep(p, quick)) specs.push_back(s);
   for (auto& s : abm3Sweep(p, quick)) specs.push_back(s);
+  for (auto& s : iterationControlSweep(p, quick)) specs.push_back(s);
   return specs;
 }
 
@@ -230,16 +262,21 @@ Options parseOptions(int argc, char** argv) {
     else if (arg == "--out" && hasValue) o.out = argv[++i];
     else if (arg == "--problems" && hasValue) o.problems = bench::splitList(argv[++i]);
     else if (arg == "--models" && hasValue) o.models = bench::splitList(argv[++i]);
+    else if (arg == "--integrators" && hasValue) o.integrators = bench::splitList(argv[++i]);
     else if (arg == "--time-limit" && hasValue) {
       o.timeLimit = bench::positiveNumber("bench_work_precision", arg, argv[++i]);
       timeLimitGiven = true;
     }
     else {
       std::fprintf(stderr, "usage: bench_work_precision [--quick] [--out DIR] [--problems a,b] "
-                           "[--models a,b] [--time-limit S]\n");
+                           "[--models a,b] [--integrators a,b] [--time-limit S]\n");
       std::exit(2);
     }
   }
+  bench::requireKnown("bench_work_precision", "integrator", o.integrators,
+                      {"newtonian", "symplectic_euler", "explicit_euler", "backward_euler",
+                       "backward_euler_newton", "radau_iia", "abm3", "backward_euler_adaptive",
+                       "static_newton"});
   if (o.quick && !timeLimitGiven) o.timeLimit = 3.0;
   if (o.quick && o.models.empty()) o.models = {"edge_length", "tensor_mass"};
   return o;
@@ -291,7 +328,8 @@ int main(int argc, char** argv) {
     std::printf("prepared %s in %.1f s\n", p->name.c_str(), bench::wallSeconds() - wall0);
   }
   std::vector<MeshRun> meshRuns;
-  if (bench::selected(options.problems, "cantilever_static_mesh"))
+  if (bench::selected(options.problems, "cantilever_static_mesh") &&
+      bench::selected(options.integrators, "static_newton"))
     for (int cells : options.quick ? std::vector<int>{1, 2} : std::vector<int>{1, 2, 3, 4, 6, 8})
       for (const std::string& m : models) meshRuns.push_back({cells, m});
 
@@ -304,7 +342,8 @@ int main(int argc, char** argv) {
   for (const auto& p : problems)
     for (const std::string& m : models)
       for (const IntegratorSpec& spec : allIntegrators(*p, options.quick))
-        tasks.push_back({p.get(), m, spec});
+        if (bench::selected(options.integrators, spec.integrator))
+          tasks.push_back({p.get(), m, spec});
 
   const std::string csvPath = options.out + "/work_precision.csv";
   FILE* csv = std::fopen(csvPath.c_str(), "w");
