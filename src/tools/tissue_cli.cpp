@@ -31,10 +31,14 @@ namespace {
 
 constexpr int kOk = 0, kBadInput = 2, kRunFailed = 3, kInterrupted = 4;
 
-// Set by SIGINT or SIGTERM during `run`: the run ends after the frame in progress.
+// Set by SIGINT or SIGTERM during `run`: the run ends after the frame in progress. The
+// handler then steps aside, so a second signal ends the process at once (a frame that hangs).
 volatile std::sig_atomic_t interruptSignal = 0;
 
-extern "C" void requestInterrupt(int signal) { interruptSignal = signal; }
+extern "C" void requestInterrupt(int signal) {
+  interruptSignal = signal;
+  std::signal(signal, SIG_DFL);
+}
 
 void catchInterrupts() {
   std::signal(SIGINT, requestInterrupt);
@@ -46,7 +50,8 @@ const char* const kUsage =
     "  tissue_cli info MESH | SCENE.yaml   (a scene adds shortest_edge, wave_speed, critical_step)\n"
     "  tissue_cli convert IN OUT            (OUT: .vtu, .msh (Gmsh v2), .vtk, .node/.ele (TetGen))\n"
     "  tissue_cli run SCENE.yaml [--duration T] [--out DIR] [--threads N]\n"
-    "                                       (N: threads of the element loops, default: the cores)\n"
+    "                                       (N: threads of the element loops, default: the cores;\n"
+    "                                        SIGINT/SIGTERM end it after the frame, exit code 4)\n"
     "  tissue_cli forces --mesh MESH --deformed POSITIONS --model NAME --lambda L --mu M\n"
     "                    [--lambda-l LL --mu-l ML --fiber X Y Z] [--stiffness-times DIR]\n"
     "  tissue_cli forces --mesh MESH --deformed POSITIONS --model teran_muscle --mooney-rivlin A B\n"

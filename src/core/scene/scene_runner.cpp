@@ -64,9 +64,12 @@ Eigen::VectorXd accelerationOf(const System& system, const Eigen::VectorXd& forc
   return a;
 }
 
+// The frame's time is a sum of frame times: a frame ending at stop_not_before up to round-off
+// counts.
 bool kineticEnergyStops(const Scene& scene, const FrameLog& log) {
   const auto& stop = scene.kineticEnergyStop;
-  return stop && log.time >= stop->notBefore && log.kineticEnergy < stop->below;
+  return stop && log.time >= stop->notBefore - 1e-9 * scene.frameTime &&
+         log.kineticEnergy < stop->below;
 }
 
 }  // namespace

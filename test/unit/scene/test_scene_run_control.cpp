@@ -110,13 +110,18 @@ TEST(RunControl, TheKineticEnergyStopWaitsForItsStartTime) {
   const std::string still = replaced(kBlock, "gravity: [0, 0, -9.81], ", "");
   Scene early = loadScene(writeScene("still.yaml", still));
   EXPECT_EQ(runScene(early, {}).frames, 1);
-  Scene waiting = loadScene(writeScene(
-      "wait.yaml", replaced(still, "stop_kinetic_energy: 1.0e-9",
-                            "stop_kinetic_energy: 1.0e-9, stop_not_before: 0.045")));
-  const RunSummary waited = runScene(waiting, {});
-  EXPECT_EQ(waited.stop, StopReason::kKineticEnergy);
-  EXPECT_EQ(waited.frames, 5);
-  EXPECT_NEAR(waited.simulatedTime, 0.05, 1e-12);
+  // Ten frames of 0.01 s end at 0.09999999999999999 s: the frame ending at 0.1 up to round-off
+  // counts.
+  for (const char* start : {"0.045", "0.05", "0.1"}) {
+    Scene waiting = loadScene(writeScene(
+        "wait.yaml", replaced(still, "stop_kinetic_energy: 1.0e-9",
+                              std::string("stop_kinetic_energy: 1.0e-9, stop_not_before: ") + start)));
+    const RunSummary waited = runScene(waiting, {});
+    EXPECT_EQ(waited.stop, StopReason::kKineticEnergy);
+    const int frames = static_cast<int>(std::ceil(std::stod(start) / 0.01 - 1e-9));
+    EXPECT_EQ(waited.frames, frames) << start;
+    EXPECT_NEAR(waited.simulatedTime, 0.01 * frames, 1e-12);
+  }
   Scene plain = loadScene(writeScene(
       "plain.yaml", replaced(still, ", stop_kinetic_energy: 1.0e-9", "")));
   EXPECT_FALSE(plain.kineticEnergyStop.has_value());
