@@ -202,8 +202,8 @@ TEST(VirtualHexahedronDistribution, BothAgreeWherePointsAreFaceCentres) {
 }
 
 // A tet compressed to 0.9^3 of its volume: both push its nodes outward, doing positive work
-// on the volume (f . dV/dx > 0), and one explicit gradient-flow path x += s M f restores the
-// volume with either.
+// on the volume (f . dV/dx > 0), and small steps x += s f along the force (a damped flow)
+// restore the volume with either.
 TEST(VirtualHexahedronDistribution, BothRestoreTheVolumeOfACompressedTet) {
   std::mt19937 rng(25);
   for (int trial = 0; trial < 5; ++trial) {
