@@ -1,8 +1,9 @@
 // tissue_cli: the command-line face of the core. Its output is a contract other checks rely
 // on (docs/cli.md). Exit codes: 0 ok, 2 bad input or usage, 3 the simulation
-// failed (non-finite state or no convergence).
+// failed (non-finite state or no convergence), 4 `run` was interrupted (SIGINT, SIGTERM).
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -28,14 +29,29 @@
 
 namespace {
 
-constexpr int kOk = 0, kBadInput = 2, kRunFailed = 3;
+constexpr int kOk = 0, kBadInput = 2, kRunFailed = 3, kInterrupted = 4;
+
+// Set by SIGINT or SIGTERM during `run`: the run ends after the frame in progress. The
+// handler then steps aside, so a second signal ends the process at once (a frame that hangs).
+volatile std::sig_atomic_t interruptSignal = 0;
+
+extern "C" void requestInterrupt(int signal) {
+  interruptSignal = signal;
+  std::signal(signal, SIG_DFL);
+}
+
+void catchInterrupts() {
+  std::signal(SIGINT, requestInterrupt);
+  std::signal(SIGTERM, requestInterrupt);
+}
 
 const char* const kUsage =
     "usage:\n"
     "  tissue_cli info MESH | SCENE.yaml   (a scene adds shortest_edge, wave_speed, critical_step)\n"
     "  tissue_cli convert IN OUT            (OUT: .vtu, .msh (Gmsh v2), .vtk, .node/.ele (TetGen))\n"
     "  tissue_cli run SCENE.yaml [--duration T] [--out DIR] [--threads N]\n"
-    "                                       (N: threads of the element loops, default: the cores)\n"
+    "                                       (N: threads of the element loops, default: the cores;\n"
+    "                                        SIGINT/SIGTERM end it after the frame, exit code 4)\n"
     "  tissue_cli forces --mesh MESH --deformed POSITIONS --model NAME --lambda L --mu M\n"
     "                    [--lambda-l LL --mu-l ML --fiber X Y Z] [--stiffness-times DIR]\n"
     "  tissue_cli forces --mesh MESH --deformed POSITIONS --model teran_muscle --mooney-rivlin A B\n"
@@ -199,12 +215,20 @@ int run(const Arguments& args) {
       std::printf("frame %d: guard recovered with %d halvings from: %s\n", f.frame,
                   f.step.halvings, f.step.guardReason.c_str());
   };
+  options.stopRequested = [] { return interruptSignal != 0; };
   const tt::RunSummary summary = tt::runScene(scene, options);
+  if (summary.stop == tt::StopReason::kKineticEnergy)
+    std::printf("stopped at t=%.6g s: kinetic energy %.6g J below stop_kinetic_energy %.6g J\n",
+                summary.simulatedTime, summary.last.kineticEnergy, scene.kineticEnergyStop->below);
+  if (summary.stop == tt::StopReason::kInterrupt)
+    std::printf("stopped at t=%.6g s: interrupted by %s\n", summary.simulatedTime,
+                interruptSignal == SIGTERM ? "SIGTERM" : "SIGINT");
   std::printf("summary frames=%d simulated=%.4f s wall=%.3f s real_time_factor=%.3g "
-              "step_median=%.3g ms step_max=%.3g ms\n",
+              "step_median=%.3g ms step_max=%.3g ms stop=%s\n",
               summary.frames, summary.simulatedTime, summary.wallSeconds,
               summary.simulatedTime / std::max(summary.wallSeconds, 1e-12),
-              1e3 * summary.stepWallMedian, 1e3 * summary.stepWallMax);
+              1e3 * summary.stepWallMedian, 1e3 * summary.stepWallMax,
+              tt::stopReasonName(summary.stop));
   if (summary.guard.frames > 0)
     std::printf("guard frames=%ld recoveries=%ld halvings=%ld failures=%ld\n",
                 summary.guard.frames, summary.guard.recoveries, summary.guard.halvings,
@@ -215,7 +239,7 @@ int run(const Arguments& args) {
     std::cerr << args.positional[0] << ": simulation failed at " << summary.failure << "\n";
     return kRunFailed;
   }
-  return kOk;
+  return summary.stop == tt::StopReason::kInterrupt ? kInterrupted : kOk;
 }
 
 // One `x y z` line per node (blank lines and lines starting with # skipped); `what` names
@@ -561,7 +585,10 @@ int main(int argc, char** argv) {
   try {
     if (command == "info") return info(Arguments(argc, argv, 2, {}));
     if (command == "convert") return convert(Arguments(argc, argv, 2, {}));
-    if (command == "run") return run(Arguments(argc, argv, 2, {{"duration", 1}, {"out", 1}, {"threads", 1}}));
+    if (command == "run") {
+      catchInterrupts();
+      return run(Arguments(argc, argv, 2, {{"duration", 1}, {"out", 1}, {"threads", 1}}));
+    }
     if (command == "forces")
       return forces(Arguments(argc, argv, 2,
                               {{"mesh", 1}, {"deformed", 1}, {"model", 1}, {"lambda", 1},

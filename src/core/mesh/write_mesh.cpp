@@ -105,7 +105,10 @@ void writeVtu(const std::string& path, const Mesh& mesh, const VtuFields& fields
 
   out << "      <PointData Vectors=\"displacement\">\n";
   vectorArray(out, "displacement", x - mesh.rest);
+  if (fields.pointPositions) vectorArray(out, "position", x);
   if (fields.velocity) vectorArray(out, "velocity", fieldMatrix(fields.velocity, mesh, "velocity"));
+  if (fields.acceleration)
+    vectorArray(out, "acceleration", fieldMatrix(fields.acceleration, mesh, "acceleration"));
   if (fields.force) vectorArray(out, "force", fieldMatrix(fields.force, mesh, "force"));
   out << "      </PointData>\n";
 

@@ -539,6 +539,22 @@ void applyLoads(const YamlEntry& spec, System& system) {
   }
 }
 
+std::optional<KineticEnergyStop> readKineticEnergyStop(const YamlEntry& run) {
+  if (!run.has("stop_kinetic_energy")) {
+    if (run.has("stop_not_before"))
+      run["stop_not_before"].fail("applies only together with stop_kinetic_energy");
+    return std::nullopt;
+  }
+  KineticEnergyStop stop;
+  stop.below = run["stop_kinetic_energy"].positive();
+  if (run.has("stop_not_before")) {
+    const YamlEntry e = run["stop_not_before"];
+    stop.notBefore = e.number();
+    if (!(stop.notBefore >= 0.0)) e.fail("expected a time >= 0 (s)");
+  }
+  return stop;
+}
+
 }  // namespace
 
 Scene loadScene(const std::string& path) {
@@ -583,9 +599,10 @@ Scene loadScene(const std::string& path) {
   if (top.has("loads")) applyLoads(top["loads"], system);
   if (top.has("run")) {
     const YamlEntry run = top["run"];
-    run.expectMap({"frame_time", "duration"});
+    run.expectMap({"frame_time", "duration", "stop_kinetic_energy", "stop_not_before"});
     scene.frameTime = run.positive("frame_time", scene.frameTime);
     scene.duration = run.positive("duration", scene.duration);
+    scene.kineticEnergyStop = readKineticEnergyStop(run);
   }
   if (top.has("boundary")) applyBoundary(top["boundary"], sceneDir, scene.frameTime, system);
   system.prescribe(0.0, system.state.x, system.state.v);

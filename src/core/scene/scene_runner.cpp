@@ -8,6 +8,8 @@
 #include <fstream>
 
 #include "tissue_trainer/core/mesh/mesh_io.h"
+#include "tissue_trainer/core/mesh/quality.h"
+#include "tissue_trainer/core/model/adamss/cavity.h"
 
 namespace tt {
 namespace {
@@ -20,22 +22,67 @@ std::string frameFileName(const std::string& name, int frame) {
   return name + buffer;
 }
 
-void writeCsvHeader(std::ofstream& csv) {
+// The columns after `halvings` came later; readers of the earlier ones are unaffected.
+void writeCsvHeader(std::ofstream& csv, int cavities) {
   csv << "frame,time,kinetic_energy,elastic_energy,load_energy,volume_ratio,max_displacement,substeps,"
-         "rejected,newton_iterations,linear_iterations,error_estimate,step_wall_s,ok,halvings\n";
+         "rejected,newton_iterations,linear_iterations,error_estimate,step_wall_s,ok,halvings,"
+         "barycentre_x,barycentre_y,barycentre_z,volume";
+  for (int c = 0; c < cavities; ++c) csv << ",cavity_volume_" << c;
+  csv << "\n";
 }
 
 void writeCsvLine(std::ofstream& csv, const FrameLog& f) {
   char line[512];
-  std::snprintf(line, sizeof line, "%d,%.9g,%.9g,%.9g,%.9g,%.12g,%.9g,%d,%d,%d,%d,%.6g,%.6g,%d,%d\n",
+  std::snprintf(line, sizeof line,
+                "%d,%.9g,%.9g,%.9g,%.9g,%.12g,%.9g,%d,%d,%d,%d,%.6g,%.6g,%d,%d,%.12g,%.12g,%.12g,%.12g",
                 f.frame, f.time, f.kineticEnergy, f.elasticEnergy, f.loadEnergy, f.volumeRatio,
                 f.maxDisplacement, f.step.substeps, f.step.rejected, f.step.newtonIterations,
                 f.step.linearIterations, f.step.errorEstimate, f.step.wallSeconds, f.step.ok,
-                f.step.halvings);
+                f.step.halvings, f.barycentre.x(), f.barycentre.y(), f.barycentre.z(), f.volume);
   csv << line;
+  for (double v : f.cavityVolumes) {
+    std::snprintf(line, sizeof line, ",%.12g", v);
+    csv << line;
+  }
+  csv << "\n";
+}
+
+int countCavities(const System& system) {
+  int n = 0;
+  for (const auto& model : system.models)
+    n += dynamic_cast<const adamss::CavityModel*>(model.get()) != nullptr;
+  return n;
+}
+
+// a = f / m at the state (f the total force: models, damping, external force); zero on the
+// constrained DOFs, whose motion is prescribed, and on massless DOFs (nodes of no element).
+Eigen::VectorXd accelerationOf(const System& system, const Eigen::VectorXd& force) {
+  Eigen::VectorXd a = Eigen::VectorXd::Zero(force.size());
+  for (Eigen::Index k = 0; k < a.size(); ++k)
+    if (system.mass[k] > 0.0) a[k] = force[k] / system.mass[k];
+  for (int dof : system.constrainedDofs) a[dof] = 0.0;
+  return a;
+}
+
+// The frame's time is a sum of frame times: a frame ending at stop_not_before up to round-off
+// counts.
+bool kineticEnergyStops(const Scene& scene, const FrameLog& log) {
+  const auto& stop = scene.kineticEnergyStop;
+  return stop && log.time >= stop->notBefore - 1e-9 * scene.frameTime &&
+         log.kineticEnergy < stop->below;
 }
 
 }  // namespace
+
+const char* stopReasonName(StopReason reason) {
+  switch (reason) {
+    case StopReason::kDuration: return "duration";
+    case StopReason::kKineticEnergy: return "kinetic_energy";
+    case StopReason::kInterrupt: return "interrupt";
+    case StopReason::kFailure: return "failure";
+  }
+  return "?";
+}
 
 FrameLog measureFrame(const System& system, int frame, const StepReport& step) {
   FrameLog log;
@@ -45,13 +92,22 @@ FrameLog measureFrame(const System& system, int frame, const StepReport& step) {
   for (const auto& model : system.models)
     (model->isBodyLoad() ? log.loadEnergy : log.elasticEnergy) += model->energy(system.state.x);
   const Eigen::Map<const Eigen::Matrix3Xd> x(system.state.x.data(), 3, system.numNodes());
-  double restVolume = 0.0, volume = 0.0;
+  double restVolume = 0.0;
   for (const Tet& t : system.mesh.tets) {
     restVolume += tetVolume(system.mesh.rest, t);
-    volume += tetVolume(x, t);
+    log.volume += tetVolume(x, t);
   }
-  log.volumeRatio = volume / restVolume;
+  for (const Hex& h : system.mesh.hexes) {
+    restVolume += hexVolume(system.mesh.rest, h);
+    log.volume += hexVolume(x, h);
+  }
+  log.volumeRatio = log.volume / restVolume;
   log.maxDisplacement = (x - system.mesh.rest).colwise().norm().maxCoeff();
+  const Eigen::Map<const Eigen::Matrix3Xd> m(system.mass.data(), 3, system.numNodes());
+  log.barycentre = m.cwiseProduct(x).rowwise().sum().cwiseQuotient(m.rowwise().sum());
+  for (const auto& model : system.models)
+    if (const auto* cavity = dynamic_cast<const adamss::CavityModel*>(model.get()))
+      log.cavityVolumes.push_back(cavity->volume(system.state.x));
   log.step = step;
   return log;
 }
@@ -68,19 +124,24 @@ RunSummary runScene(Scene& scene, const RunOptions& options) {
       const std::string path = (fs::path(options.outDir) / (scene.name + ".csv")).string();
       csv.open(path);
       if (!csv) throw InputError(path, 0, "cannot write the CSV log");
-      writeCsvHeader(csv);
+      writeCsvHeader(csv, countCavities(scene.system));
       summary.files.push_back(path);
     }
   }
   std::vector<std::pair<double, std::string>> vtuFiles;
-  auto writeFrame = [&](int frame) {
-    if (!writeFiles || scene.output.vtuEvery <= 0 || frame % scene.output.vtuEvery != 0) return;
+  // `last`: the frame the run ends on early, written whatever vtu_every says.
+  auto writeFrame = [&](int frame, bool last = false) {
+    if (!writeFiles || scene.output.vtuEvery <= 0) return;
+    if (frame % scene.output.vtuEvery != 0 && !last) return;
     const std::string name = frameFileName(scene.name, frame);
     Eigen::VectorXd force;
     scene.system.computeForce(scene.system.state.x, scene.system.state.v, force);
+    const Eigen::VectorXd acceleration = accelerationOf(scene.system, force);
     VtuFields fields;
     fields.positions = &scene.system.state.x;
+    fields.pointPositions = true;
     fields.velocity = &scene.system.state.v;
+    fields.acceleration = &acceleration;
     fields.force = &force;
     writeVtu((fs::path(options.outDir) / name).string(), scene.system.mesh, fields);
     vtuFiles.emplace_back(scene.system.state.t, name);
@@ -95,15 +156,21 @@ RunSummary runScene(Scene& scene, const RunOptions& options) {
     stepWall.push_back(step.wallSeconds);
     summary.guard.add(step);
     if (csv.is_open()) writeCsvLine(csv, log);
-    writeFrame(frame);
     summary.frames = frame;
     summary.last = log;
     if (options.onFrame) options.onFrame(log);
     if (!step.ok) {
       summary.ok = false;
       summary.failure = "frame " + std::to_string(frame) + ": " + step.failure;
-      break;
+      summary.stop = StopReason::kFailure;
+    } else if (kineticEnergyStops(scene, log)) {
+      summary.stop = StopReason::kKineticEnergy;
+    } else if (options.stopRequested && options.stopRequested()) {
+      summary.stop = StopReason::kInterrupt;
     }
+    writeFrame(frame, summary.stop == StopReason::kKineticEnergy ||
+                          summary.stop == StopReason::kInterrupt);
+    if (summary.stop != StopReason::kDuration) break;
   }
   summary.wallSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -117,6 +184,7 @@ RunSummary runScene(Scene& scene, const RunOptions& options) {
   if (!vtuFiles.empty()) {
     const std::string path = (fs::path(options.outDir) / (scene.name + ".pvd")).string();
     pvd.open(path);
+    pvd.precision(12);
     pvd << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n"
            "  <Collection>\n";
     for (const auto& [time, name] : vtuFiles)

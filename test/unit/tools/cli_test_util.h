@@ -18,11 +18,12 @@ struct CliResult {
   std::string out, err;
 };
 
-inline CliResult runCli(const std::string& arguments) {
+// `prefix` goes before the program (a wrapper such as "timeout -s INT 1 ").
+inline CliResult runCli(const std::string& arguments, const std::string& prefix = "") {
   const std::filesystem::path errFile =
       std::filesystem::temp_directory_path() / "tt_cli_stderr.txt";
   const std::string command =
-      std::string(TT_CLI_PATH) + " " + arguments + " 2>" + errFile.string();
+      prefix + std::string(TT_CLI_PATH) + " " + arguments + " 2>" + errFile.string();
   CliResult r;
   FILE* pipe = popen(command.c_str(), "r");
   char buffer[4096];

@@ -145,6 +145,69 @@ output: {vtu_every: 5, csv: true}
   EXPECT_FALSE(fs::exists(dir / "out" / "block_000001.vtu"));
 }
 
+// A block settling under gravity and mass damping; `run` and `output` are appended.
+const char* const kSettlingBlock = R"(name: settle
+mesh: {generator: box, nodes: [3, 3, 4], size: [0.02, 0.02, 0.03]}
+materials: [{young_modulus: 5000, poisson_ratio: 0.3, density: 1000}]
+force_models: [{type: tensor_mass}]
+integrator: {type: backward_euler}
+boundary: {fixed: [{plane: {point: [0, 0, 0], normal: [0, 0, 1]}}]}
+loads: {gravity: [0, 0, -9.81], rayleigh_mass: 30}
+)";
+
+TEST(Cli, RunStopsWhenTheKineticEnergyFallsBelowTheThreshold) {
+  const fs::path dir = fs::temp_directory_path() / "tt_cli_settle";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "settle.yaml") << kSettlingBlock
+                                     << "run: {frame_time: 0.01, duration: 5, stop_kinetic_energy: 1e-9}\n";
+  const Result r = runCli("run " + (dir / "settle.yaml").string());
+  ASSERT_EQ(r.exitCode, 0) << r.err << r.out;
+  EXPECT_NE(r.out.find("stopped at t="), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("below stop_kinetic_energy 1e-09 J"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" stop=kinetic_energy\n"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("summary frames=500 "), std::string::npos) << r.out;
+
+  std::ofstream(dir / "full.yaml") << kSettlingBlock << "run: {frame_time: 0.01, duration: 0.05}\n";
+  const Result full = runCli("run " + (dir / "full.yaml").string());
+  ASSERT_EQ(full.exitCode, 0) << full.err;
+  EXPECT_NE(full.out.find("summary frames=5 "), std::string::npos) << full.out;
+  EXPECT_NE(full.out.find(" stop=duration\n"), std::string::npos) << full.out;
+}
+
+// SIGINT (and SIGTERM) end the run after the frame in progress: the outputs are written, the
+// reason printed and the exit code is 4. The signal comes from `timeout` once the run is under
+// way; the scene would run for hours otherwise.
+TEST(Cli, RunEndsCleanlyOnAnInterrupt) {
+  const fs::path dir = fs::temp_directory_path() / "tt_cli_interrupt";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "settle.yaml") << kSettlingBlock
+                                     << "run: {frame_time: 0.001, duration: 100000}\n"
+                                        "output: {vtu_every: 100000, csv: true}\n";
+  for (const char* signal : {"INT", "TERM"}) {
+    const fs::path out = dir / signal;
+    const Result r = runCli("run " + (dir / "settle.yaml").string() + " --out " + out.string() +
+                                " --threads 1",
+                            std::string("timeout --preserve-status -s ") + signal + " 1 ");
+    EXPECT_EQ(r.exitCode, 4) << signal << ": " << r.err << r.out;
+    EXPECT_NE(r.out.find(std::string("interrupted by SIG") + signal), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(" stop=interrupt\n"), std::string::npos) << r.out;
+    const size_t at = r.out.find("summary frames=");
+    ASSERT_NE(at, std::string::npos) << r.out;
+    const int frames = std::stoi(r.out.substr(at + 15));
+    EXPECT_GT(frames, 0);
+    std::ifstream csv(out / "settle.csv");
+    int lines = 0;
+    for (std::string line; std::getline(csv, line);) ++lines;
+    EXPECT_EQ(lines, frames + 1) << "header and one line per frame";
+    char last[32];
+    std::snprintf(last, sizeof last, "settle_%06d.vtu", frames);
+    EXPECT_TRUE(fs::exists(out / last)) << last;
+    EXPECT_TRUE(fs::exists(out / "settle.pvd"));
+  }
+}
+
 // --- forces --scene -------------------------------------------------------------------------
 
 // A placed, fibred, two-material block with two elastic models, gravity and a clamp: only

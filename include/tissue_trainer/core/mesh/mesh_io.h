@@ -37,6 +37,8 @@ void writeObj(const std::string& path, const SurfaceMesh& surface);
 struct VtuFields {
   const Eigen::VectorXd* positions = nullptr;      // 3n deformed positions (else rest)
   const Eigen::VectorXd* velocity = nullptr;       // 3n
+  const Eigen::VectorXd* acceleration = nullptr;   // 3n
+  bool pointPositions = false;                     // the positions also as point data
   const Eigen::VectorXd* force = nullptr;          // 3n
   bool cellVolumeRatio = true;                     // det F per tet
   bool cellStrain = true;                          // Frobenius norm of Green strain E

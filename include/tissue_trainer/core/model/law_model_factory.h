@@ -29,7 +29,8 @@ LawModelFactory lawModelFactory(LawConstantsReader<Law> readConstants) {
     }
     if (request.kind == LawModelKind::kVirtualHexahedron)
       return std::make_unique<adamss::VirtualHexahedronModel<Law>>(
-          context.mesh, constants, request.options, request.deformationGradient);
+          context.mesh, constants, request.options, request.deformationGradient,
+          request.distribution);
     return std::make_unique<HyperelasticModel<Law>>(context.mesh, constants, request.options);
   };
 }

@@ -83,6 +83,8 @@ struct LawModelRequest {
   LawOptions options;
   adamss::DeformationGradientSource deformationGradient =
       adamss::DeformationGradientSource::kShapeFunctions;  // virtual_hexahedron only
+  adamss::PointForceDistribution distribution =
+      adamss::PointForceDistribution::kAxes;  // virtual_hexahedron only
 };
 using LawModelFactory =
     std::function<std::unique_ptr<ForceModel>(const ModelContext& context,

@@ -13,6 +13,14 @@
 
 namespace tt {
 
+// Stop a run early ("Adamss: Advanced Anisotropic Mass-Spring System", Sec. 2.2: the kinetic
+// energy dropping below a threshold E_k,min): after the first frame that ends at t >= notBefore
+// with a kinetic energy below `below`.
+struct KineticEnergyStop {
+  double below = 0.0;      // J
+  double notBefore = 0.0;  // s
+};
+
 struct SceneOutput {
   int vtuEvery = 0;    // write a VTU file every N frames (0: no VTU series)
   bool csv = false;    // write the per-frame CSV log
@@ -46,7 +54,8 @@ struct Scene {
   System system;
   std::unique_ptr<Integrator> integrator;
   double frameTime = 0.01;  // s, one integrator advance() per frame
-  double duration = 1.0;    // s
+  double duration = 1.0;    // s, t_max
+  std::optional<KineticEnergyStop> kineticEnergyStop;  // only when `run` lists it
   SceneOutput output;
   std::optional<ContactSettings> contact;         // only when the scene lists `contact`
   std::optional<RenderSurface> renderSurface;     // only when the scene lists `render_surface`

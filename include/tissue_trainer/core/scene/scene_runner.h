@@ -1,6 +1,9 @@
 #pragma once
-// Runs a loaded scene headless for a duration: one integrator advance per frame, a CSV log
-// line per frame and a VTU file every N frames (with a ParaView .pvd collection).
+// Runs a loaded scene headless ("Adamss: Advanced Anisotropic Mass-Spring System", Sec. 2.2):
+// one integrator advance per frame, a CSV log line per frame and a VTU file every N frames
+// (with a ParaView .pvd collection), until t_max (the duration), the kinetic energy falls
+// below the scene's threshold, an interrupt is requested or a step fails.
+#include <Eigen/Core>
 #include <functional>
 #include <string>
 #include <vector>
@@ -18,6 +21,9 @@ struct FrameLog {
   double loadEnergy = 0.0;       // potential of body loads (gravity), J
   double volumeRatio = 1.0;      // total deformed volume / total rest volume
   double maxDisplacement = 0.0;  // m
+  Eigen::Vector3d barycentre = Eigen::Vector3d::Zero();  // centre of mass (m)
+  double volume = 0.0;                // deformed volume of every tet and hex (m^3)
+  std::vector<double> cavityVolumes;  // one per adamss_cavity model, in scene order (m^3)
   StepReport step;
 };
 
@@ -25,7 +31,13 @@ struct RunOptions {
   double duration = -1.0;   // s; negative: the scene's duration
   std::string outDir;       // empty: write nothing
   std::function<void(const FrameLog&)> onFrame;  // progress, called after every frame
+  // Asked after every frame; true ends the run there (an interrupt), outputs written.
+  std::function<bool()> stopRequested;
 };
+
+// Why a run ended.
+enum class StopReason { kDuration, kKineticEnergy, kInterrupt, kFailure };
+const char* stopReasonName(StopReason reason);  // duration, kinetic_energy, interrupt, failure
 
 struct RunSummary {
   int frames = 0;
@@ -35,6 +47,7 @@ struct RunSummary {
   FrameLog last;
   bool ok = true;
   std::string failure;
+  StopReason stop = StopReason::kDuration;
   GuardStats guard;                // frames = 0 when the scene runs without the guard
   std::vector<std::string> files;  // written, in order
 };

@@ -1,6 +1,7 @@
 // Registers virtual_hexahedron (model/adamss/virtual_hexahedron.h): the method of the virtual
 // hexahedron of "Adamss: Advanced Anisotropic Mass-Spring System" (Sec. 2.4.2) over any
 // registered law, built by the law's own entry.
+#include "tissue_trainer/core/material/volume.h"
 #include "tissue_trainer/core/model/law_model_factory.h"
 
 namespace tt {
@@ -17,7 +18,12 @@ void registerVirtualHexahedronModel(Registry& registry) {
              "shape_functions (default; exact on tets, the centre of hexes) or "
              "axis_approximation (from axis stretches and angles, Adamss Eqs. 2.59-2.62: "
              "approximate, no stiffness: explicit integrators, or implicit ones with "
-             "finite-difference Jacobians)"}};
+             "finite-difference Jacobians)"},
+            {"distribution",
+             "law volume only: axes (default; the point forces to the nodes by the "
+             "intersection points' weights, Eq. 2.29) or vertices (each point force in equal "
+             "parts to its face's nodes, Adamss Sec. 2.4.2.3; no energy, and a moment about "
+             "the element in general)"}};
   for (KeyDoc& key : lawOptionKeys()) e.keys.push_back(std::move(key));
   e.presets = {
       {"virtual_hexahedron_hunter_polynomial", "{law: hunter_polynomial}",
@@ -32,6 +38,14 @@ void registerVirtualHexahedronModel(Registry& registry) {
         spec["deformation_gradient"].choice({"shape_functions", "axis_approximation"}) ==
             "axis_approximation")
       request.deformationGradient = adamss::DeformationGradientSource::kAxisApproximation;
+    if (spec.has("distribution")) {
+      const YamlEntry distribution = spec["distribution"];
+      if (spec["law"].text() != VolumeLaw::kName)
+        distribution.fail("applies to law: volume only (the volume preservation forces of "
+                          "Adamss Sec. 2.4.2.3)");
+      if (distribution.choice({"axes", "vertices"}) == "vertices")
+        request.distribution = adamss::PointForceDistribution::kVertices;
+    }
     if (context.mesh.tets.empty() && context.mesh.hexes.empty())
       spec.fail("the mesh has no tetrahedra or hexahedra");
     try {

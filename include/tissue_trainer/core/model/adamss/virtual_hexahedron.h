@@ -31,6 +31,16 @@
 // shear is off by about 1e-2 in C = F^T F). It needs orthonormal rest axes, has no stiffness
 // (explicit integrators, or implicit ones with finite-difference Jacobians), and its energy
 // V0 W(F) is not the potential of its force.
+//
+// Distribution (Sec. 2.4.2.3). `axes` carries the point forces to the nodes by C (Eq. 2.29).
+// `vertices` uses instead the equal-share matrix the thesis names for an isotropic volume
+// preservation: each point's force in equal parts to the nodes of the face holding it
+// (1/3 on a tet's face, 1/4 on a hex's), so the lever is h'_p = R_v sum_l A_l n_l D'_pl with
+// D' from that matrix. The net force stays zero (every column of the matrix sums to 1 and the
+// two point forces of an axis are opposite), but the force is the gradient of no energy
+// (hasEnergy() is false, energy() 0) and its moment about the element is not zero in general:
+// moving a point force to its face's centroid moves its line of action. Where every point is
+// its face's centroid (a rectangular hex with the axes along its edges) the two are the same.
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <stdexcept>
@@ -56,6 +66,8 @@ struct VirtualHexahedronRest {
   NodeMatrix<N> lever = NodeMatrix<N>::Zero();     // h_p: the force at node p is -P h_p
   Eigen::Matrix<double, N, kAxes> axisWeights =    // D: the current axes are x_e D (Eq. 2.5)
       Eigen::Matrix<double, N, kAxes>::Zero();
+  // D (axes) or D' (vertices): a point force pair f_2l = -f_2l+1 reaches the nodes as f_2l D^T.
+  Eigen::Matrix<double, N, kAxes> distributionWeights = Eigen::Matrix<double, N, kAxes>::Zero();
   Eigen::Vector3d pointArea = Eigen::Vector3d::Zero();  // R_v A_l
   Eigen::Vector3d length0 = Eigen::Vector3d::Zero();    // |zeta_l^0|
   Eigen::Matrix3d axes0 = Eigen::Matrix3d::Identity();  // unit rest axes (columns)
@@ -65,8 +77,10 @@ struct VirtualHexahedronRest {
 // The rest data of tet `nodes` or hex `nodes` of `mesh` with its axes. Returns false when the
 // element is flat or inverted at rest or its axes span no volume.
 bool tetVirtualHexahedron(const Mesh& mesh, const Tet& nodes, const AxisRest<Tet4>& axes,
+                          PointForceDistribution distribution,
                           VirtualHexahedronRest<Tet4::kNodes>& out);
 bool hexVirtualHexahedron(const Mesh& mesh, const Hex& nodes, const AxisRest<Hex8>& axes,
+                          PointForceDistribution distribution,
                           VirtualHexahedronRest<Hex8::kNodes>& out);
 
 // True when the lever is the gradient's, h_p = V0 g_p (relative 1e-9): the force is then the
@@ -98,30 +112,41 @@ class VirtualHexahedronModel final : public ForceModel {
   // `constants` per material id. Throws std::invalid_argument naming the element ("tet 3")
   // whose axes or rest shape the method cannot use.
   VirtualHexahedronModel(const Mesh& mesh, const std::vector<Constants>& constants,
-                         const LawOptions& options, DeformationGradientSource source)
-      : options_(options), source_(source) {
+                         const LawOptions& options, DeformationGradientSource source,
+                         PointForceDistribution distribution = PointForceDistribution::kAxes)
+      : options_(options), source_(source), distribution_(distribution) {
     const AxisMesh axes = buildAxes(mesh);
     build(mesh, mesh.tets, axes.tetRest, mesh.material, constants, "tet", tets_,
           tetVirtualHexahedron);
     build(mesh, mesh.hexes, axes.hexRest, mesh.hexMaterial, constants, "hex", hexes_,
           hexVirtualHexahedron);
     for (const auto& r : hexes_.rest) nonConservativeHexes_ += isConservative(r) ? 0 : 1;
+    for (const auto& r : tets_.rest) nonConservativeTets_ += isConservative(r) ? 0 : 1;
   }
 
   const char* name() const override { return "virtual_hexahedron"; }
   DeformationGradientSource source() const { return source_; }
+  PointForceDistribution distribution() const { return distribution_; }
   // Hexes whose force is not the gradient of their energy (axes not along the edges of a
-  // rectangular hex).
+  // rectangular hex, or the `vertices` distribution).
   int nonConservativeHexes() const { return nonConservativeHexes_; }
+  // Tets whose force is not the gradient of their energy (only with `vertices`).
+  int nonConservativeTets() const { return nonConservativeTets_; }
+  // With `vertices` the model has an energy only where the distribution is that of `axes`.
+  bool hasEnergy() const override {
+    return distribution_ == PointForceDistribution::kAxes ||
+           (nonConservativeTets_ == 0 && nonConservativeHexes_ == 0);
+  }
   bool toleratesInversion() const override { return options_.inversionThreshold > 0.0; }
 
   double addForce(const Eigen::VectorXd& x, const Eigen::VectorXd&,
                   Eigen::VectorXd& f) const override {
-    return forces(tets_, x, f) + forces(hexes_, x, f);
+    const double e = forces(tets_, x, f) + forces(hexes_, x, f);
+    return hasEnergy() ? e : 0.0;
   }
 
   double energy(const Eigen::VectorXd& x) const override {
-    return energyOf(tets_, x) + energyOf(hexes_, x);
+    return hasEnergy() ? energyOf(tets_, x) + energyOf(hexes_, x) : 0.0;
   }
 
   bool hasStiffness() const override { return shapeFunctions(); }
@@ -153,7 +178,7 @@ class VirtualHexahedronModel final : public ForceModel {
     set.law.reserve(elements.size());
     for (std::size_t e = 0; e < elements.size(); ++e) {
       const std::string element = std::string(kind) + " " + std::to_string(e);
-      if (!restOf(mesh, elements[e], axes[e], set.rest[e]))
+      if (!restOf(mesh, elements[e], axes[e], distribution_, set.rest[e]))
         throw std::invalid_argument("virtual_hexahedron: " + element +
                                     " is flat or inverted at rest, or its axes span no volume");
       const Eigen::Matrix3d& B = set.rest[e].axes0;
@@ -196,7 +221,7 @@ class VirtualHexahedronModel final : public ForceModel {
         const Eigen::Matrix3d pointForce =
             (xe * r.axisWeights) * r.length0.cwiseInverse().asDiagonal() * S *
             r.pointArea.asDiagonal();
-        fe.noalias() = -pointForce * r.axisWeights.transpose();
+        fe.noalias() = -pointForce * r.distributionWeights.transpose();
       }
       return r.volume * Law::energy(set.law[e], point.F);
     });
@@ -256,9 +281,11 @@ class VirtualHexahedronModel final : public ForceModel {
 
   LawOptions options_;
   DeformationGradientSource source_;
+  PointForceDistribution distribution_;
   VirtualHexahedra<Tet4, Law> tets_;
   VirtualHexahedra<Hex8, Law> hexes_;
   int nonConservativeHexes_ = 0;
+  int nonConservativeTets_ = 0;
 };
 
 }  // namespace adamss
