@@ -49,6 +49,7 @@ FiniteDifferenceJacobian::FiniteDifferenceJacobian(const System& system,
   if (!(settings_.positionScale > 0.0)) settings_.positionScale = largestExtent(system.mesh);
   const SparseMatrix pattern = system.pattern.zeroMatrix();
   dofs_ = pattern.rows();
+  patternNonZeros_ = pattern.nonZeros();
   std::vector<int> groupOf(dofs_);
   if (settings_.coloring) {
     const std::vector<int> colour = distanceTwoColouring(system.pattern);
@@ -69,7 +70,7 @@ FiniteDifferenceJacobian::FiniteDifferenceJacobian(const System& system,
 }
 
 bool FiniteDifferenceJacobian::matches(const System& system) const {
-  return system.numDofs() == dofs_;
+  return system.numDofs() == dofs_ && system.pattern.nonZeros() == patternNonZeros_;
 }
 
 void FiniteDifferenceJacobian::positions(const System& system, const Eigen::VectorXd& x,

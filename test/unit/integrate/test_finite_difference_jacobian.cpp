@@ -137,6 +137,17 @@ TEST(FiniteDifferenceJacobian, ColouringIsValidAndFarSmallerThanTheDofCount) {
                                            << " DOFs";
 }
 
+// A model that couples two far nodes (a spring) widens the pattern without changing the DOF
+// count: the Jacobian built before no longer matches, so backward Euler builds a new one.
+TEST(FiniteDifferenceJacobian, NoLongerMatchesWhenCouplingsWidenThePattern) {
+  const Mesh mesh = boxGrid(3, 3, 3, Eigen::Vector3d(0.02, 0.02, 0.02), TetSplit::kSix);
+  System s(mesh, {Material::isotropic(5e3, 0.4, 1000.0)});
+  const FiniteDifferenceJacobian fd(s, {});
+  EXPECT_TRUE(fd.matches(s));
+  s.pattern = meshPattern(s.mesh, {{0, s.numNodes() - 1}});
+  EXPECT_FALSE(fd.matches(s));
+}
+
 // Eq. 2.149 as printed, (F_d - F^_d) / du, is minus the force Jacobian. On unit-mass
 // oscillators with k = 100 and h = 0.05, 400 linearised steps (Eqs. 2.146-2.148, multiplied by
 // M: (M - h^2 J) dv = h (f + h J v)) with the printed sign amplify the motion beyond 1e10,

@@ -39,7 +39,7 @@ class FiniteDifferenceJacobian {
   // Force evaluations per Jacobian (besides the one of f at the point itself).
   int groups() const { return static_cast<int>(groupDofs_.size()); }
   int colours() const { return colours_; }  // of the node graph; 0 without colouring
-  // Built for a system of this DOF count (a system whose pattern changed needs a new one).
+  // Built for a pattern of this size (a system whose models added couplings needs a new one).
   bool matches(const System& system) const;
   const FiniteDifferenceSettings& settings() const { return settings_; }
 
@@ -63,6 +63,7 @@ class FiniteDifferenceJacobian {
   FiniteDifferenceSettings settings_;
   int colours_ = 0;
   Eigen::Index dofs_ = 0;
+  Eigen::Index patternNonZeros_ = 0;
   std::vector<std::vector<int>> groupDofs_;      // DOFs perturbed together
   std::vector<std::vector<Entry>> groupEntries_;  // the entries of their columns
   Eigen::VectorXd xs_, vs_, fs_, step_;

@@ -45,6 +45,7 @@ class SparsePattern {
   void addNodeBlock(SparseMatrix& K, int a, int b, const Eigen::Matrix3d& block) const;
 
   int numNodes() const { return numNodes_; }
+  Eigen::Index nonZeros() const { return pattern_.nonZeros(); }
 
   // Offsets of tet t's entries, as used by addTetBlock: entry (la * 4 + lb) * 3 + i is the
   // value offset of K(3a+i, 3b) (the three entries j = 0..2 follow it).
