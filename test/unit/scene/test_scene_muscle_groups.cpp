@@ -99,5 +99,20 @@ TEST(MuscleGroupsScene, ActivationFollowsItsTimeCurve) {
   EXPECT_LT(extent(s, 0, 0.0), 0.02);
 }
 
+// config/scenes/tongue_muscles.yaml loads, with both muscles reachable by name and the
+// palate's collision model.
+TEST(MuscleGroupsScene, TongueSceneLoads) {
+  Scene scene = loadScene(std::string(TT_SOURCE_DIR) + "/config/scenes/tongue_muscles.yaml");
+  const System& s = scene.system;
+  for (const char* name : {"superior_longitudinal", "transverse"})
+    EXPECT_NE(s.findActivation(name).model, nullptr) << name;
+  ASSERT_EQ(s.models.size(), 3u);  // muscles, collision, gravity
+  EXPECT_STREQ(s.models[1]->name(), "collision");
+  const Eigen::VectorXd rest = Eigen::Map<const Eigen::VectorXd>(s.mesh.rest.data(), s.numDofs());
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(s.numDofs());
+  s.models[0]->addForce(rest, rest, f);
+  EXPECT_LT(f.lpNorm<Eigen::Infinity>(), 1e-9);  // at rest, no activation at t = 0: no force
+}
+
 }  // namespace
 }  // namespace tt
