@@ -1,5 +1,5 @@
 // Registers collision (model/collision.h). Its entry:
-//   {type: collision, stiffness: eps (N/m), nodes: surface | all | {box | plane | nodes},
+//   {type: collision, stiffness: eps (N/m), nodes: surface | all | {box | plane | nodes | region},
 //    psd_projection: false,
 //    bodies: [{plane: {point, normal}} | {sphere: {centre, radius}} |
 //             {mesh: {file: body.obj, scale, translate}}, ...]}
@@ -18,9 +18,29 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The nodes of the elements a region names (as in `materials`), sorted, each once.
+std::vector<int> regionNodes(const YamlEntry& region, const Mesh& mesh) {
+  std::vector<int> nodes;
+  for (int e : regionElements(region, mesh)) {
+    if (e < mesh.numTets())
+      nodes.insert(nodes.end(), mesh.tets[e].begin(), mesh.tets[e].end());
+    else
+      nodes.insert(nodes.end(), mesh.hexes[e - mesh.numTets()].begin(),
+                   mesh.hexes[e - mesh.numTets()].end());
+  }
+  std::sort(nodes.begin(), nodes.end());
+  nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  return nodes;
+}
+
 std::vector<int> readNodes(const YamlEntry* spec, const Mesh& mesh) {
   std::vector<int> nodes;
-  if (spec && !spec->node().IsScalar()) return selectNodes(*spec, mesh);
+  if (spec && !spec->node().IsScalar()) {
+    spec->expectMap({"box", "plane", "nodes", "region"});
+    if (spec->node().size() != 1)
+      spec->fail("expected one of 'box', 'plane', 'nodes' or 'region'");
+    return spec->has("region") ? regionNodes((*spec)["region"], mesh) : selectNodes(*spec, mesh);
+  }
   if (spec && spec->choice({"surface", "all"}) == "all") {
     for (int i = 0; i < mesh.numNodes(); ++i) nodes.push_back(i);
     return nodes;
@@ -85,7 +105,8 @@ void registerCollisionModel(Registry& registry) {
              "required: a list of {plane: {point, normal (out of the body)}}, {sphere: {centre, "
              "radius}} or {mesh: {file: closed OBJ, scale (1), translate ([0, 0, 0])}}"},
             {"nodes", "the nodes tested: surface (default), all, {box: {min, max}}, {plane: "
-                      "{point, normal, tolerance}} or {nodes: [i, ...]}"},
+                      "{point, normal, tolerance}}, {nodes: [i, ...]} or {region: R} (the nodes "
+                      "of the elements of a materials-style region R)"},
             {"psd_projection",
              "true: a sphere's stiffness drops its tangential (curvature) part, so -K is PSD "
              "(default false)"}};

@@ -52,6 +52,11 @@ TEST(MalformedCollision, EachErrorNamesFileLineAndKey) {
       {"selection matching no node",
        replaced(s, "nodes: surface", "nodes: {box: {min: [1, 1, 1], max: [2, 2, 2]}}"), 9,
        "force_models[1].nodes: the selection matches no node"},
+      {"two selections",
+       replaced(s, "nodes: surface", "nodes: {nodes: [0], region: all}"), 9,
+       "force_models[1].nodes: expected one of 'box', 'plane', 'nodes' or 'region'"},
+      {"empty region", replaced(s, "nodes: surface", "nodes: {region: {box: {min: [1, 1, 1], max: [2, 2, 2]}}}"), 9,
+       "force_models[1].nodes.region: the region contains no element"},
       {"no bodies", replaced(s, "    bodies:\n      - plane: {point: [0, 0, -0.001], normal: [0, 0, 1]}\n"
                                 "      - sphere: {centre: [0, 0, 0.02], radius: 0.005}\n",
                              "    bodies: []\n"),

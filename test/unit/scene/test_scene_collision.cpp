@@ -67,7 +67,8 @@ TEST(CollisionScene, ObjBodyAndNodeSelectionsLoad) {
       kPressedBlock, "      - plane: {point: [0, 0, -0.001], normal: [0, 0, 1]}",
       "      - mesh: {file: unit_cube.obj, scale: 0.004, translate: [-0.003, -0.003, -0.003]}");
   for (const char* nodes : {"", "    nodes: all\n", "    nodes: surface\n",
-                            "    nodes: {box: {min: [-1, -1, -1], max: [0.001, 0.001, 0.001]}}\n"}) {
+                            "    nodes: {box: {min: [-1, -1, -1], max: [0.001, 0.001, 0.001]}}\n",
+                            "    nodes: {region: {box: {min: [-1, -1, -1], max: [0.003, 0.003, 0.003]}}}\n"}) {
     Scene s = loadScene(testutil::writeScene(
         "obj_body.yaml", testutil::replaced(scene, "    stiffness: 1000\n",
                                             std::string("    stiffness: 1000\n") + nodes)));
