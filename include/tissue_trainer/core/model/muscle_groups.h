@@ -7,8 +7,11 @@
 //   f = f_0 + sum_i a_i f_i,
 // f_0 the law at alpha = 0 on every element (elements outside every group are passive muscle
 // tissue along their own fibre frame) and f_i the force of d psi / d alpha = sigma_max
-// Phi_a(lam) on the elements of group i. Each part is its own element model: f_i is evaluated
-// from the active term alone, never as a difference of two forces. With inversion handling all
+// Phi_a(lam) on the elements of group i. Each part is its own element model over the whole mesh
+// (in part i the elements outside group i carry a zero law, so that the element numbering is
+// the one the system's sparse pattern places stiffness blocks by): f_i is evaluated from the
+// active term alone, never as a difference of two forces. A force evaluation costs one pass
+// over the mesh plus one per group with a nonzero activation. With inversion handling all
 // parts are taken at the same clamped F, where the law is still linear in alpha; with PSD
 // projection each part is projected on its own (their sum is then PSD too, but it is not the
 // projection of the sum).
