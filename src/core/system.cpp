@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "tissue_trainer/core/mesh/quality.h"
+#include "tissue_trainer/core/model/activated_force_model.h"
 
 namespace tt {
 
@@ -162,6 +163,14 @@ void System::updateConstraints() {
   constrainedDofs.clear();
   for (int dof = 0; dof < 3 * n; ++dof)
     if (isConstrained[dof]) constrainedDofs.push_back(dof);
+}
+
+ActivationRef System::findActivation(const std::string& name) const {
+  for (const auto& model : models)
+    if (auto* activated = dynamic_cast<ActivatedForceModel*>(model.get()))
+      for (int i = 0; i < activated->activationCount(); ++i)
+        if (activated->activationName(i) == name) return {activated, i};
+  return {};
 }
 
 }  // namespace tt

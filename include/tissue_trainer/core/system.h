@@ -4,6 +4,7 @@
 // scene does not list is constructed, so nothing unlisted is evaluated.
 #include <Eigen/Core>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "tissue_trainer/core/mesh/mesh.h"
@@ -12,6 +13,14 @@
 #include "tissue_trainer/core/solve/sparse_pattern.h"
 
 namespace tt {
+
+class ActivatedForceModel;
+
+// One activation of a model (a muscle of `muscle_groups`): model->setActivation(index, a).
+struct ActivationRef {
+  ActivatedForceModel* model = nullptr;  // nullptr: no activation of that name
+  int index = -1;
+};
 
 struct State {
   Eigen::VectorXd x;  // positions, 3n (m)
@@ -77,6 +86,10 @@ class System {
   // The per-DOF `damping` is not in it (implicit integrators add it on the diagonal).
   void assembleVelocityJacobian(const Eigen::VectorXd& x, const Eigen::VectorXd& v,
                                 SparseMatrix& C) const;
+
+  // The activation called `name` among the models' (ActivatedForceModel), e.g. a muscle of
+  // `muscle_groups`, for setting it at run time; {nullptr, -1} when there is none.
+  ActivationRef findActivation(const std::string& name) const;
 
   // Writes the prescribed positions and velocities of constrained DOFs at time t.
   void prescribe(double t, Eigen::VectorXd& x, Eigen::VectorXd& v) const;

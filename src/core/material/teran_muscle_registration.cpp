@@ -7,6 +7,7 @@
 
 #include "tissue_trainer/core/material/teran_muscle.h"
 #include "tissue_trainer/core/model/law_model_factory.h"
+#include "teran_muscle_reader.h"
 
 namespace tt {
 namespace {
@@ -23,7 +24,9 @@ double nonNegative(const YamlEntry& v, double unit) {
   return x * unit;
 }
 
-TeranMuscleLaw::Constants readTeran(const YamlEntry* material) {
+}  // namespace
+
+TeranMuscleLaw::Constants readTeranMuscleConstants(const YamlEntry* material) {
   TeranMuscleLaw::Constants c;
   if (!material || !material->has("teran_muscle")) return c;
   const YamlEntry t = (*material)["teran_muscle"];
@@ -49,8 +52,6 @@ TeranMuscleLaw::Constants readTeran(const YamlEntry* material) {
   return c;
 }
 
-}  // namespace
-
 void registerTeranMuscleLaw(Registry& registry) {
   registry.add(LawEntry{
       TeranMuscleLaw::kName,
@@ -59,7 +60,7 @@ void registerTeranMuscleLaw(Registry& registry) {
       "(0.25 in PhysBAM)",
       {{"teran_muscle", kTeranKeyDoc}},
       lawModelFactory<TeranMuscleLaw>(
-          [](const YamlEntry* entry, const Material&) { return readTeran(entry); })});
+          [](const YamlEntry* entry, const Material&) { return readTeranMuscleConstants(entry); })});
 }
 
 }  // namespace tt

@@ -19,6 +19,8 @@ void registerVolumeSpringModel(Registry&);       // src/core/model/adamss/
 void registerCavityModel(Registry&);             // src/core/model/adamss/
 void registerLmsVolumeSpringModel(Registry&);   // src/core/model/adamss/
 void registerActiveTensionModel(Registry&);      // src/core/model/adamss/
+void registerMuscleGroupsModel(Registry&);
+void registerCollisionModel(Registry&);
 // Material laws (src/core/material/*_registration.cpp).
 void registerStvkLaw(Registry&);
 void registerNeoHookeanLaw(Registry&);
@@ -47,6 +49,8 @@ void registerBuiltIns(Registry& registry) {
   registerCavityModel(registry);
   registerLmsVolumeSpringModel(registry);
   registerActiveTensionModel(registry);
+  registerMuscleGroupsModel(registry);
+  registerCollisionModel(registry);
   registerStvkLaw(registry);
   registerNeoHookeanLaw(registry);
   registerVolumeLaw(registry);

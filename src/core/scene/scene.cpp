@@ -376,7 +376,8 @@ Eigen::Vector3d elementCentroid(const Mesh& mesh, int e) {
   return c;
 }
 
-// Elements (tets, then hexes) whose centroid lies in the region: 'all' or {box: {min, max}}.
+}  // namespace
+
 std::vector<int> regionElements(const YamlEntry& region, const Mesh& mesh) {
   const int count = mesh.numTets() + mesh.numHexes();
   std::vector<int> elements;
@@ -385,7 +386,20 @@ std::vector<int> regionElements(const YamlEntry& region, const Mesh& mesh) {
     for (int e = 0; e < count; ++e) elements.push_back(e);
     return elements;
   }
-  region.expectMap({"box"});
+  region.expectMap({"box", "elements"});
+  if (region.has("box") == region.has("elements"))
+    region.fail("expected one of 'box' or 'elements'");
+  if (region.has("elements")) {
+    const YamlEntry list = region["elements"];
+    elements = list.integers();
+    for (size_t k = 0; k < elements.size(); ++k)
+      if (elements[k] < 0 || elements[k] >= count)
+        list[k].fail("expected an element index in [0, " + std::to_string(count - 1) + "]");
+    if (elements.empty()) list.fail("expected at least one element index");
+    std::sort(elements.begin(), elements.end());
+    elements.erase(std::unique(elements.begin(), elements.end()), elements.end());
+    return elements;
+  }
   const YamlEntry box = region["box"];
   box.expectMap({"min", "max"});
   const Eigen::Vector3d lo = box["min"].vector3(), hi = box["max"].vector3();
@@ -396,6 +410,8 @@ std::vector<int> regionElements(const YamlEntry& region, const Mesh& mesh) {
   if (elements.empty()) region.fail("the region contains no element");
   return elements;
 }
+
+namespace {
 
 std::vector<Material> assignMaterials(const YamlEntry& list, Mesh& mesh) {
   std::vector<Material> materials;

@@ -151,6 +151,11 @@ void applySceneFibres(const YamlEntry& spec, const fs::path& sceneDir,
   applyEntry(spec, all, mesh, &sceneDir, meshRotation);
 }
 
+void applyFibres(const YamlEntry& spec, const std::vector<int>& elements, Mesh& mesh) {
+  mesh.fillDefaults();
+  applyEntry(spec, elements, mesh, nullptr, Eigen::Matrix3d::Identity());
+}
+
 void applyMaterialFibres(const YamlEntry& materialList, Mesh& mesh) {
   mesh.fillDefaults();
   for (size_t k = 0; k < materialList.size(); ++k) {

@@ -4,6 +4,7 @@
 // material. Elements are numbered tets first, then hexes.
 #include <Eigen/Core>
 #include <filesystem>
+#include <vector>
 
 #include "tissue_trainer/core/mesh/mesh.h"
 #include "tissue_trainer/core/scene/yaml_reader.h"
@@ -13,6 +14,10 @@ namespace tt {
 // `meshRotation` turns the rows of a fibre file, which are in the mesh file's coordinates.
 void applySceneFibres(const YamlEntry& spec, const std::filesystem::path& sceneDir,
                       const Eigen::Matrix3d& meshRotation, Mesh& mesh);
+
+// One `fibres` entry (direction, sheet, angles_deg or transmural; no file) for `elements`
+// (tets first, then hexes) of `mesh`.
+void applyFibres(const YamlEntry& spec, const std::vector<int>& elements, Mesh& mesh);
 
 // After the materials are assigned (mesh.material, mesh.hexMaterial).
 void applyMaterialFibres(const YamlEntry& materialList, Mesh& mesh);

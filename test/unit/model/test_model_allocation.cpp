@@ -15,6 +15,7 @@
 #include "tissue_trainer/core/model/tensor_mass.h"
 #include "tissue_trainer/core/model/adamss/cavity.h"
 #include "tissue_trainer/core/model/adamss/lms_volume_springs.h"
+#include "tissue_trainer/core/model/collision.h"
 
 // malloc is interposed (operator new and Eigen's aligned_malloc both end in it) and forwards
 // to glibc; memory is still released by glibc's free. Not under AddressSanitizer, which owns
@@ -77,6 +78,23 @@ TEST(ModelAllocation, EvaluationLoopsDoNotAllocate) {
     for (auto mode : {adamss::ActiveMode::kTension, adamss::ActiveMode::kForce})
       models.push_back(std::make_unique<adamss::ActiveTensionModel>(m, form, mode,
                                                                     TimeCurve::twitch(twitch)));
+  {
+    // A plane and a sphere through the box and a closed surface (a tet) around a corner.
+    Eigen::Matrix3Xd corner(3, 4);
+    corner << -0.01, 0.02, -0.01, -0.01, -0.01, -0.01, 0.02, -0.01, -0.01, -0.01, -0.01, 0.02;
+    std::vector<ClosedSurface> surfaces;
+    surfaces.emplace_back(corner, std::vector<Triangle>{{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}});
+    CollisionBody mesh;
+    mesh.kind = CollisionBody::Kind::kMesh;
+    mesh.surface = 0;
+    std::vector<int> all(m.numNodes());
+    for (int i = 0; i < m.numNodes(); ++i) all[i] = i;
+    models.push_back(std::make_unique<CollisionModel>(
+        m.numNodes(), all, 100.0,
+        std::vector<CollisionBody>{CollisionBody::plane(Eigen::Vector3d(0, 0, 0.01), Eigen::Vector3d(0, 0, 1)),
+                                   CollisionBody::sphere(Eigen::Vector3d(0.03, 0.03, 0.02), 0.01), mesh},
+        std::move(surfaces), false));
+  }
   const Eigen::VectorXd x = perturbed(m, 0.001, rng), v = Eigen::VectorXd::Zero(x.size());
   Eigen::VectorXd f = Eigen::VectorXd::Zero(x.size());
   SparsePattern pattern(m.numNodes(), m.tets);

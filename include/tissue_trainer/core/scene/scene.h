@@ -69,5 +69,9 @@ class YamlEntry;
 // The nodes a selection names: {box: {min, max}}, {plane: {point, normal, tolerance}},
 // {nodes: [indices]} (rest positions). An empty result is an error at the entry.
 std::vector<int> selectNodes(const YamlEntry& spec, const Mesh& mesh);
+// The elements (numbered tets first, then hexes) a region names: `all`, {box: {min, max}}
+// (element centroids at rest) or {elements: [indices]}; sorted, each once. A box that holds no
+// centroid is an error at the entry.
+std::vector<int> regionElements(const YamlEntry& region, const Mesh& mesh);
 
 }  // namespace tt
