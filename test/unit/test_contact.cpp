@@ -11,6 +11,7 @@
 
 #include "tissue_trainer/core/contact/tissue_contact.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
+#include "tissue_trainer/core/integrate/equilibrium.h"
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/model/edge_length.h"
 
@@ -386,6 +387,63 @@ TEST(Contact, PressingWithImplicitStepsStaysFiniteAndPushesTheSurfaceDown) {
   }
   EXPECT_GT(lastForce, 0.0);
   EXPECT_LT(s.state.x.segment<3>(3 * (1 + 3 * (2 + 3 * 1))).y(), 0.02 - 0.001);
+}
+
+// The block of edge-length springs (Young's modulus E), its bottom fixed, with a sphere pressed
+// 1 mm into the top; the tissue settled at each tool position (the contact re-queried until
+// the penalties stop changing the state). Returns the contact at the settled state.
+struct SettledPress {
+  System system;
+  TissueContact contact;
+  SettledPress(double E, bool tissueInSeries)
+      : system(boxGrid(3, 3, 3, Eigen::Vector3d(0.04, 0.02, 0.04), TetSplit::kFiveMirrored),
+               {Material::transverselyIsotropic(E, 0.4, E, 0.4, 1000)}),
+        contact(prepared(system), withSeries(tissueInSeries), {sphere(0.005)}) {}
+  static System& prepared(System& s) {
+    s.models.push_back(std::make_unique<EdgeLengthModel>(s.mesh, s.materials));
+    for (int a = 0; a < s.numNodes(); ++a)
+      if (s.mesh.rest(1, a) < 1e-12) s.mesh.nodeTags[a] = kFixedAll;
+    s.updateConstraints();
+    return s;
+  }
+  static ContactSettings withSeries(bool on) {
+    ContactSettings c = settings(300.0);
+    c.tissueInSeries = on;
+    return c;
+  }
+  ContactResult at(const Eigen::Vector3d& tip) {
+    for (int query = 0; query < 6; ++query) {
+      contact.setTool(tt::at(tip), {tt::at(tip)}, 1.0, 0.0);
+      contact.update();
+      EXPECT_TRUE(solveEquilibrium(system).converged());
+    }
+    contact.setTool(tt::at(tip), {tt::at(tip)}, 1.0, 0.0);
+    return contact.update();
+  }
+};
+
+// With the tissue in series, the felt stiffness lies between what the hand feels pressing
+// quasi-static tissue (a finite difference of the settled tool force) and the penalty alone;
+// it rises with the tissue's stiffness, and without the option K is the penalty's.
+TEST(Contact, FeltStiffnessInSeriesLiesBetweenTheSettledTissuesAndThePenaltys) {
+  const Eigen::Vector3d top(0.02, 0.02, 0.02);
+  const Eigen::Vector3d tip = top + Eigen::Vector3d(0, 0.005 - 0.001, 0);
+  const double step = 2e-5;
+  SettledPress soft(3e3, true);
+  const ContactResult pressed = soft.at(tip);
+  const ContactResult deeper = soft.at(tip - Eigen::Vector3d(0, step, 0));
+  ASSERT_TRUE(pressed.inContact && deeper.inContact);
+  const double settled = (deeper.f0.y() - pressed.f0.y()) / step;
+  const double felt = pressed.K(1, 1);
+  EXPECT_GT(settled, 0.0);
+  EXPECT_GT(felt, settled) << "settled " << settled;
+  EXPECT_LT(felt, 0.9 * 300.0);
+  EXPECT_LT((pressed.K - pressed.K.transpose()).norm(), 1e-12);
+
+  SettledPress stiff(3e4, true);
+  EXPECT_GT(stiff.at(tip).K(1, 1), felt * 1.5);
+  SettledPress penaltyOnly(3e3, false);
+  EXPECT_NEAR(penaltyOnly.at(tip).K(1, 1), 300.0, 1e-6);
 }
 
 }  // namespace

@@ -17,6 +17,10 @@ double depthOf(const PenaltyContact& c, const Eigen::VectorXd& x) {
 
 }  // namespace
 
+double ContactForceModel::depth(const PenaltyContact& c, const Eigen::VectorXd& x) {
+  return depthOf(c, x);
+}
+
 double ContactForceModel::normalForce(const PenaltyContact& c, const Eigen::VectorXd& x,
                                       const Eigen::VectorXd& v) const {
   const double depth = depthOf(c, x);

@@ -346,7 +346,7 @@ const ContactResult& TissueContact::update() {
 
   if (!model_->penalties.empty() || !model_->springs.empty()) {
     result_.f0 = model_->toolForce(x, system_.state.v);
-    result_.K = model_->toolStiffness(x);
+    result_.K = settings_.tissueInSeries ? feltStiffness(x) : model_->toolStiffness(x);
   }
   result_.graspedNodes = graspNodes_;
   result_.grasping = !graspNodes_.empty();
@@ -359,6 +359,45 @@ const ContactResult& TissueContact::update() {
   }
   result_.inContact = !model_->penalties.empty() || !model_->springs.empty();
   return result_;
+}
+
+// ContactSettings::tissueInSeries: each penalty k_c in series with the tissue's stiffness k_t
+// at its contact point along the normal, k = k_c k_t / (k_c + k_t). k_t = sum_ij w_i w_j
+// n^T K_ij n, K = -df/dx of the tissue's models, is the stiffness of the contact point with
+// every other node held, so it is at least the point's true stiffness and k lies between the
+// felt stiffness of the quasi-static tissue and k_c. A penalty on a constrained node, or
+// where the tissue is not stiff along n (k_t <= 0), keeps k_c.
+Eigen::Matrix3d TissueContact::feltStiffness(const Eigen::VectorXd& x) {
+  if (tissueStiffness_.size() == 0) tissueStiffness_ = system_.pattern.zeroMatrix();
+  tissueStiffness_.coeffs().setZero();
+  for (const auto& model : system_.models)
+    if (model.get() != model_ && model->hasStiffness())
+      model->addStiffness(x, -1.0, system_.pattern, tissueStiffness_);
+  Eigen::Matrix3d K = Eigen::Matrix3d::Zero();
+  for (const PenaltyContact& c : model_->penalties) {
+    if (!(ContactForceModel::depth(c, x) > 0.0)) continue;
+    const double kt = tissuePointStiffness(c);
+    const double k = kt > 0.0 ? c.stiffness * kt / (c.stiffness + kt) : c.stiffness;
+    K += k * c.normal * c.normal.transpose();
+  }
+  for (const GraspSpring& s : model_->springs) K += s.stiffness * Eigen::Matrix3d::Identity();
+  return K;
+}
+
+double TissueContact::tissuePointStiffness(const PenaltyContact& c) const {
+  double kt = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    for (int k = 0; k < 3; ++k)
+      if (system_.isConstrained[3 * c.nodes[i] + k]) return 0.0;
+    for (int j = 0; j < 3; ++j) {
+      Eigen::Matrix3d block;
+      for (int r = 0; r < 3; ++r)
+        for (int s = 0; s < 3; ++s)
+          block(r, s) = tissueStiffness_.coeff(3 * c.nodes[i] + r, 3 * c.nodes[j] + s);
+      kt += c.weights[i] * c.weights[j] * c.normal.dot(block * c.normal);
+    }
+  }
+  return kt;
 }
 
 bool TissueContact::grasped(int node) const {

@@ -189,11 +189,12 @@ RenderSurface loadRenderSurface(const YamlEntry& spec, const fs::path& sceneDir,
 }
 
 // contact: {stiffness | stiffness_per_area, damping, grasp_stiffness, grasp_jaw_angle,
-// grasp_radius, grasp_max_nodes}; every key optional (defaults in ContactSettings).
+// grasp_radius, grasp_max_nodes, felt_stiffness}; every key optional (defaults in
+// ContactSettings).
 ContactSettings readContact(const YamlEntry& spec) {
   if (spec.node().IsNull()) return {};
   spec.expectMap({"stiffness", "stiffness_per_area", "damping", "grasp_stiffness",
-                  "grasp_jaw_angle", "grasp_radius", "grasp_max_nodes"});
+                  "grasp_jaw_angle", "grasp_radius", "grasp_max_nodes", "felt_stiffness"});
   ContactSettings c;
   if (spec.has("stiffness") && spec.has("stiffness_per_area"))
     spec["stiffness_per_area"].fail(
@@ -213,6 +214,9 @@ ContactSettings readContact(const YamlEntry& spec) {
   }
   c.graspRadius = spec.positive("grasp_radius", c.graspRadius);
   c.graspMaxNodes = spec.integerAtLeast("grasp_max_nodes", 1, c.graspMaxNodes);
+  if (spec.has("felt_stiffness"))
+    c.tissueInSeries = spec["felt_stiffness"].choice({"penalty", "tissue_in_series"}) ==
+                       "tissue_in_series";
   return c;
 }
 

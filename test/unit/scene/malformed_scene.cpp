@@ -89,6 +89,7 @@ TEST(MalformedScene, EachErrorNamesFileLineAndKey) {
       {"negative contact stiffness per area", edited("run:", "contact: {stiffness_per_area: -1e6}\nrun:"), 21, "contact.stiffness_per_area: expected a positive number"},
       {"negative contact damping", edited("run:", "contact: {damping: -1}\nrun:"), 21, "contact.damping"},
       {"grasp angle out of range", edited("run:", "contact: {grasp_jaw_angle: 4}\nrun:"), 21, "[0, pi]"},
+      {"unknown felt stiffness", edited("run:", "contact: {felt_stiffness: tissue}\nrun:"), 21, "contact.felt_stiffness: expected one of"},
       {"zero grasp nodes", edited("run:", "contact: {grasp_max_nodes: 0}\nrun:"), 21, "contact.grasp_max_nodes"},
       {"contact not a map", edited("run:", "contact: 100\nrun:"), 21, "contact"},
       {"missing render surface", edited("run:", "render_surface: {file: none.obj}\nrun:"), 21, "not found"},

@@ -165,7 +165,7 @@ TEST(BeatingHeartScene, AToolHeldOnTheWallFeelsItBeat) {
   ASSERT_FALSE(contact.update().inContact);
 
   HapticPipeline haptics = bridgePipeline();
-  std::vector<double> time, force, feltTime, felt;
+  std::vector<double> time, force, stiffness, feltTime, felt;
   double hapticTime = 0.0;
   for (int f = 0; f < 130; ++f) {
     // Lowered from 2 mm above the surface to the depth over the first 0.4 s, then held.
@@ -183,6 +183,7 @@ TEST(BeatingHeartScene, AToolHeldOnTheWallFeelsItBeat) {
     }
     time.push_back(scene.system.state.t);
     force.push_back(r.f0.z());
+    stiffness.push_back(r.K(2, 2));
     const StepReport report = scene.integrator->advance(scene.system, scene.frameTime);
     ASSERT_TRUE(report.ok) << report.failure;
     EXPECT_EQ(report.halvings, 0) << "frame " << f;
@@ -208,6 +209,7 @@ TEST(BeatingHeartScene, AToolHeldOnTheWallFeelsItBeat) {
   EXPECT_NEAR(feltDiastole, diastole, 0.05 * diastole);
   EXPECT_GT(feltSystole, 1.5 * feltDiastole);
   EXPECT_EQ(haptics.extrapolator().counters().malformed, 0u);
+  std::printf("stiffness diastole %g..%g systole %g..%g\n", range(time, stiffness, 0.85, 1.0, false), range(time, stiffness, 0.85, 1.0, true), range(time, stiffness, 1.0, 1.3, false), range(time, stiffness, 1.0, 1.3, true));
 }
 
 // The palpation task (config/tasks/beating_heart_palpation.yaml) played as the operator node

@@ -47,6 +47,8 @@ class ContactForceModel : public ForceModel {
   void addStiffness(const Eigen::VectorXd& x, double scale, const SparsePattern& pattern,
                     SparseMatrix& K) const override;
 
+  // Penetration depth of one penalty contact at x (m; > 0 in contact).
+  static double depth(const PenaltyContact& c, const Eigen::VectorXd& x);
   // Normal force of one penalty contact at (x, v) (>= 0, N).
   double normalForce(const PenaltyContact& c, const Eigen::VectorXd& x,
                      const Eigen::VectorXd& v) const;

@@ -102,6 +102,8 @@ class TissueContact {
   void addPointPenalties(const Eigen::VectorXd& x);
   void addNodePenalties(const Eigen::VectorXd& x);
   bool grasped(int node) const;
+  Eigen::Matrix3d feltStiffness(const Eigen::VectorXd& x);
+  double tissuePointStiffness(const PenaltyContact& c) const;
   Eigen::Vector3d graspCentre() const;
 
   System& system_;
@@ -122,6 +124,7 @@ class TissueContact {
   std::vector<Eigen::Vector3d> graspOffsets_;  // grasped nodes' positions in the tip frame
   std::vector<int> graspNodes_;
   ContactResult result_;
+  SparseMatrix tissueStiffness_;  // -df/dx of the tissue's models (ContactSettings::tissueInSeries)
   // With ContactSettings::stiffnessPerArea: the surface nodes, each one's share of the rest
   // surface area (m^2) and one triangle it is a corner of.
   std::vector<int> surfaceNodes_;

@@ -37,6 +37,10 @@ struct ContactSettings {
   double graspJawAngle = 0.1;      // jaw opening (rad) below which the jaws grasp
   double graspRadius = 0.006;      // nodes within this distance of the jaw centre are grasped (m)
   int graspMaxNodes = 12;          // at most this many (the nearest) nodes per grasp
+  // The stiffness K sent with f0 to the haptic side: the penalties' alone (the tissue held
+  // fixed), or each penalty in series with the tissue's stiffness at its contact point, so the
+  // felt stiffness follows the tissue's (a stiffening, beating wall feels stiffer at systole).
+  bool tissueInSeries = false;
 };
 
 // A finer triangle surface (scene key `render_surface`) embedded into the tet mesh: its
