@@ -38,6 +38,7 @@ struct Probe {
   int contacts = 0, statuses = 0, surfaces = 0, surfacesWithTriangles = 0, markers = 0,
       diagnostics = 0, nonFinite = 0, unstable = 0;
   size_t lastTriangles = 0, lastVertices = 0;
+  std::vector<float> lastPositions;
   double jawAngle = 0.0;  // published with every tip pose
   bool badSurface = false;
   std::vector<ros::Subscriber> subs;
@@ -63,6 +64,7 @@ struct Probe {
       if (m->positions.size() % 3 != 0 || m->positions.empty()) badSurface = true;
       for (float p : m->positions) badSurface = badSurface || !std::isfinite(p);
       lastVertices = m->positions.size() / 3;
+      lastPositions = m->positions;
       // A change always carries the triangles; they are also resent once a second unchanged.
       if (m->triangles_changed && m->triangles.empty()) badSurface = true;
       if (!m->triangles.empty()) {
@@ -137,6 +139,35 @@ struct Probe {
     return false;
   }
 };
+
+// Two muscle layers of a 2 x 2 x 1 cm block (docs/muscles.md), fibres along x below and y above,
+// solved to equilibrium every frame, both at rest until /tissue/activation says otherwise.
+const char* const kMuscleBlock = R"(name: two_layers
+mesh: {generator: box, nodes: [5, 5, 3], size: [0.02, 0.02, 0.01], translate: [0.2, 0.2, 0.2]}
+materials:
+  - {young_modulus: 20, poisson_ratio: 0.45, stress_unit: kPa,
+     teran_muscle: {mooney_rivlin: [6, 2], bulk: 60, peak_stress: 4}}
+force_models:
+  - type: muscle_groups
+    law: teran_muscle
+    muscles:
+      - {name: lower, region: {box: {min: [-1, -1, -1], max: [1, 1, 0.205]}}, fibres: {direction: [1, 0, 0]}}
+      - {name: upper, region: {box: {min: [-1, -1, 0.205], max: [1, 1, 1]}}, fibres: {direction: [0, 1, 0]}}
+integrator: {type: quasistatic}
+boundary:
+  fixed:
+    - {box: {min: [0.199, 0.199, 0.199], max: [0.201, 0.201, 0.201]}}
+    - {box: {min: [0.219, 0.199, 0.199], max: [0.221, 0.201, 0.201]}, axes: yz}
+    - {box: {min: [0.199, 0.219, 0.199], max: [0.201, 0.221, 0.201]}, axes: z}
+run: {frame_time: 0.01, duration: 1000}
+)";
+
+double largestChange(const std::vector<float>& a, const std::vector<float>& b) {
+  if (a.size() != b.size() || a.empty()) return INFINITY;
+  double largest = 0.0;
+  for (size_t k = 0; k < a.size(); ++k) largest = std::max(largest, double(std::abs(a[k] - b[k])));
+  return largest;
+}
 
 Eigen::Matrix3d stiffnessOf(const tissue_trainer::ContactModel& m) {
   Eigen::Matrix3d K;
@@ -261,6 +292,48 @@ TEST(Simulation, PalpationLoadSceneAndReset) {
   probe.jawAngle = 0.6;
   probe.run(1.0, [&](double) { return above; });
   EXPECT_FALSE(probe.contact.in_contact);  // released, the tool out of the tissue
+  EXPECT_EQ(probe.nonFinite, 0);
+  EXPECT_EQ(probe.unstable, 0);
+}
+
+// /tissue/activation: a muscle scene contracts when its muscle is activated by name; a name
+// the scene does not have and a value outside [0, 1] change nothing, and the node steps on.
+TEST(Simulation, MuscleActivationsByTopic) {
+  Probe probe;
+  ros::Publisher activation = probe.nh.advertise<sensor_msgs::JointState>("tissue/activation", 10);
+  const std::string scene = "/tmp/tt_simulation_check_muscles.yaml";
+  std::ofstream(scene) << kMuscleBlock;
+  tissue_trainer::LoadScene load;
+  load.request.scene_file = scene;
+  ASSERT_TRUE(ros::service::waitForService("simulation/load_scene", 5000));
+  ASSERT_TRUE(ros::service::call("simulation/load_scene", load));
+  ASSERT_TRUE(load.response.success) << load.response.message;
+  const auto send = [&](const std::vector<std::string>& names, const std::vector<double>& values) {
+    sensor_msgs::JointState m;
+    m.header.stamp = ros::Time::now();
+    m.name = names;
+    m.position = values;
+    activation.publish(m);
+  };
+  probe.run(1.0, nullptr);
+  ASSERT_FALSE(probe.lastPositions.empty());
+  const std::vector<float> rest = probe.lastPositions;
+
+  send({"biceps", "lower"}, {1.0, 1.5});  // no such muscle; out of range
+  probe.run(0.5, nullptr);
+  EXPECT_LT(largestChange(rest, probe.lastPositions), 1e-6);
+
+  const int statusesBefore = probe.statuses;
+  send({"lower"}, {0.8});
+  probe.run(1.0, nullptr);
+  const double contracted = largestChange(rest, probe.lastPositions);
+  ROS_INFO("lower at 0.8: largest surface vertex motion %.3f mm", 1e3 * contracted);
+  EXPECT_GT(contracted, 2e-4);
+  EXPECT_GT(probe.statuses - statusesBefore, 20);
+
+  send({"lower"}, {0.0});
+  probe.run(1.0, nullptr);
+  EXPECT_LT(largestChange(rest, probe.lastPositions), 1e-6);  // quasistatic: back at rest
   EXPECT_EQ(probe.nonFinite, 0);
   EXPECT_EQ(probe.unstable, 0);
 }

@@ -13,6 +13,7 @@
 #include "tissue_trainer/TissueSurface.h"
 #include "tissue_trainer/core/error.h"
 #include "tissue_trainer/core/integrate/stability_guard.h"
+#include "tissue_trainer/core/model/activated_force_model.h"
 #include "tissue_trainer/core/model/strain.h"
 #include "tissue_trainer/core/parallel.h"
 #include "tissue_trainer/core/scene/scene_runner.h"
@@ -153,6 +154,7 @@ bool SimulationNode::start() {
   diagnosticsPub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("diagnostics", 10);
   jawSub_ = nh_.subscribe("instrument/jaw/measured_js", 10, &SimulationNode::onJaw, this,
                           ros::TransportHints().tcpNoDelay());
+  activationSub_ = nh_.subscribe("tissue/activation", 10, &SimulationNode::onActivation, this);
   resetSrv_ = pnh_.advertiseService("reset", &SimulationNode::onReset, this);
   loadSrv_ = pnh_.advertiseService("load_scene", &SimulationNode::onLoadScene, this);
   stepTimer_ = nh_.createSteadyTimer(ros::WallDuration(1.0 / params_.rate), &SimulationNode::step, this);
@@ -230,6 +232,29 @@ void SimulationNode::onJaw(const sensor_msgs::JointState& msg) {
       jawAngle_ = msg.position[k];
       haveJaw_ = true;
     }
+}
+
+// Muscle activations by name (a scene's `muscle_groups`); each one holds until the next
+// message that names it. A name no muscle has, or a value that is not in [0, 1], is dropped
+// with a warning; the message's other entries still apply.
+void SimulationNode::onActivation(const sensor_msgs::JointState& msg) {
+  if (msg.name.size() != msg.position.size()) {
+    ROS_WARN_THROTTLE(1.0, "tissue/activation: %zu names but %zu positions; message ignored",
+                      msg.name.size(), msg.position.size());
+    return;
+  }
+  for (size_t k = 0; k < msg.name.size(); ++k) {
+    const tt::ActivationRef muscle = scene_.system.findActivation(msg.name[k]);
+    const double a = msg.position[k];
+    if (!muscle.model)
+      ROS_WARN_THROTTLE(1.0, "tissue/activation: scene '%s' has no muscle '%s'",
+                        scene_.name.c_str(), msg.name[k].c_str());
+    else if (!(a >= 0.0 && a <= 1.0))
+      ROS_WARN_THROTTLE(1.0, "tissue/activation: '%s' = %g is not in [0, 1]; ignored",
+                        msg.name[k].c_str(), a);
+    else
+      muscle.model->setActivation(muscle.index, a);
+  }
 }
 
 void SimulationNode::step(const ros::SteadyTimerEvent&) {

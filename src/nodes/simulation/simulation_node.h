@@ -70,6 +70,7 @@ class SimulationNode {
   void publishStatus(const tt::StepReport& report, double stepWall, const ros::Time& stamp);
   void publishDiagnostics(const ros::SteadyTimerEvent&);
   void onJaw(const sensor_msgs::JointState& msg);
+  void onActivation(const sensor_msgs::JointState& msg);
   bool onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
   bool onLoadScene(tissue_trainer::LoadScene::Request& req, tissue_trainer::LoadScene::Response& res);
 
@@ -87,6 +88,7 @@ class SimulationNode {
   tf2_ros::TransformListener tfListener_{tfBuffer_};
   ros::Publisher contactPub_, surfacePub_, markerPub_, statusPub_, diagnosticsPub_;
   ros::Subscriber jawSub_;
+  ros::Subscriber activationSub_;
   ros::ServiceServer resetSrv_, loadSrv_;
   ros::SteadyTimer stepTimer_, diagnosticsTimer_;
 
