@@ -234,13 +234,19 @@ Eigen::VectorXd LandmarkFit::projected(Eigen::VectorXd theta) const {
 Eigen::VectorXd LandmarkFit::boundedStep(const Eigen::MatrixXd& J, const Eigen::VectorXd& r,
                                          const Eigen::VectorXd& theta) const {
   const int P = parameterCount();
+  // Held first: activations at a bound where the cost's gradient J^T r points outward.
   std::vector<bool> held(P, false);
+  const Eigen::VectorXd gradient = J.transpose() * r;
+  for (int i = 0; i < activationCount(); ++i)
+    held[i] = (theta[i] <= 0.0 && gradient[i] > 0.0) || (theta[i] >= 1.0 && gradient[i] < 0.0);
   Eigen::VectorXd step = Eigen::VectorXd::Zero(P);
   for (int pass = 0; pass <= activationCount(); ++pass) {
     std::vector<int> free;
     for (int k = 0; k < P; ++k)
       if (!held[k]) free.push_back(k);
     const int F = static_cast<int>(free.size());
+    step.setZero();
+    if (F == 0) break;  // every parameter held at its bound
     const double lambda = params_.levenbergMarquardt;
     // J_free dtheta = -r, with Marquardt's rows sqrt(lambda) diag(|J_k|) below it.
     Eigen::MatrixXd A = Eigen::MatrixXd::Zero(J.rows() + (lambda > 0 ? F : 0), F);
@@ -251,9 +257,8 @@ Eigen::VectorXd LandmarkFit::boundedStep(const Eigen::MatrixXd& J, const Eigen::
       if (lambda > 0) A(J.rows() + c, c) = std::sqrt(lambda) * std::max(J.col(free[c]).norm(), 1e-300);
     }
     const Eigen::VectorXd s = A.colPivHouseholderQr().solve(b);
-    step.setZero();
     for (int c = 0; c < F; ++c) step[free[c]] = s[c];
-    // An activation at a bound that the step pushes outward is held there and the rest re-solved.
+    // Then any activation at a bound that the step pushes outward, and the rest re-solved.
     bool changed = false;
     for (int i = 0; i < activationCount(); ++i)
       if (!held[i] && ((theta[i] <= 0.0 && step[i] < 0.0) || (theta[i] >= 1.0 && step[i] > 0.0)))
