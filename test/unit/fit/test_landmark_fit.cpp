@@ -61,7 +61,7 @@ struct Recovery {
   std::vector<Eigen::VectorXd> path;  // parameters after each step
 };
 
-Recovery recover(const std::vector<double>& truth) {
+Recovery recover(const std::vector<double>& truth, double levenbergMarquardt = 0.0) {
   Scene scene = testutil::loadThreeMuscleBlock();
   System& s = scene.system;
   const Eigen::VectorXd rest = s.state.x;
@@ -75,6 +75,7 @@ Recovery recover(const std::vector<double>& truth) {
   FitParams params;
   params.equilibrium = testutil::tightEquilibrium();
   params.residualTolerance = 1e-12;
+  params.levenbergMarquardt = levenbergMarquardt;
   LandmarkFit fit(s, landmarks, params);
   Recovery r;
   r.result = fit.run([&](int, const FitIteration&) { r.path.push_back(fit.parameters()); });
@@ -108,6 +109,18 @@ TEST(LandmarkFit, ActivationsAtTheirBoundsAreRecoveredWithinTheBounds) {
     EXPECT_LE(p.maxCoeff(), 1.0);
   }
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(r.fitted[i], truth[i], 1e-6) << i;
+}
+
+TEST(LandmarkFit, LevenbergMarquardtDampingAlsoRecoversTheActivations) {
+  const std::vector<double> truth = {0.3, 0.6, 0.45};
+  const Recovery plain = recover(truth), damped = recover(truth, 0.1);
+  EXPECT_TRUE(damped.result.converged()) << damped.result.reason;
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(damped.fitted[i], truth[i], 1e-6) << i;
+  // The damping shortens the first step.
+  ASSERT_FALSE(damped.result.iterations.empty());
+  EXPECT_LT(damped.result.iterations[0].step, plain.result.iterations[0].step);
+  std::printf("iterations: %zu plain, %zu damped (lambda 0.1)\n", plain.result.iterations.size(),
+              damped.result.iterations.size());
 }
 
 }  // namespace
