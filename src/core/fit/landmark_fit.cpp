@@ -140,17 +140,23 @@ bool LandmarkFit::evaluate(const Eigen::VectorXd& theta, Eigen::VectorXd& y, Eig
   setParameters(theta);
   equilibrium_ = solver_.solve(system_, system_.state.x);
   system_.state.v.setZero();
-  if (!equilibrium_.converged()) return false;
+  if (!equilibrium_.converged()) {
+    failure_ = "the equilibrium did not converge: " + equilibrium_.reason;
+    return false;
+  }
   const Eigen::VectorXd raw = landmarkPositions(system_.state.x);
   y.resize(raw.size());
   for (int l = 0; l < raw.size() / 3; ++l)
     y.segment<3>(3 * l) = cranM_ * raw.segment<3>(3 * l) + cranT_;
-  if (J) jacobian(raw, *J);
+  if (J && !jacobian(raw, *J)) {
+    failure_ = "the stiffness at the equilibrium could not be factored";
+    return false;
+  }
   return true;
 }
 
 // raw: landmark positions before the cranium post-transform.
-void LandmarkFit::jacobian(const Eigen::VectorXd& raw, Eigen::MatrixXd& J) {
+bool LandmarkFit::jacobian(const Eigen::VectorXd& raw, Eigen::MatrixXd& J) {
   const Eigen::VectorXd& x = system_.state.x;
   const int n = system_.numDofs();
   J.setZero(raw.size(), parameterCount());
@@ -186,8 +192,7 @@ void LandmarkFit::jacobian(const Eigen::VectorXd& raw, Eigen::MatrixXd& J) {
   system_.constrainMatrix(K);
   const Eigen::SparseMatrix<double> Kc = K;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor(Kc);
-  if (factor.info() != Eigen::Success)
-    throw std::runtime_error("the stiffness at the equilibrium could not be factored");
+  if (factor.info() != Eigen::Success) return false;
   const Eigen::MatrixXd dx = factor.solve(rhs) + known;
   for (int c = 0; c < dx.cols(); ++c) J.col(c) = landmarkColumn(dx.col(c));
   if (params_.fitCranium) {
@@ -200,6 +205,7 @@ void LandmarkFit::jacobian(const Eigen::VectorXd& raw, Eigen::MatrixXd& J) {
       }
     }
   }
+  return true;
 }
 
 void LandmarkFit::stackedResidual(const Eigen::VectorXd& y, const Eigen::MatrixXd* J,
@@ -278,7 +284,7 @@ FitResult LandmarkFit::runImpl(const std::function<void(int, const FitIteration&
   Eigen::MatrixXd J, Jr;
   const auto equilibriumFailed = [&]() {
     result.stop = FitStop::kEquilibriumFailed;
-    result.reason = "the equilibrium did not converge: " + equilibrium_.reason;
+    result.reason = failure_;
     return result;
   };
   if (!evaluate(theta, y, &J)) return equilibriumFailed();
@@ -327,7 +333,10 @@ FitResult LandmarkFit::runImpl(const std::function<void(int, const FitIteration&
     y = trialY;
     cost = record.cost = trialCost;
     record.residual = result.residual = rms(y);
-    jacobian(landmarkPositions(system_.state.x), J);
+    if (!jacobian(landmarkPositions(system_.state.x), J)) {
+      failure_ = "the stiffness at the equilibrium could not be factored";
+      return equilibriumFailed();
+    }
     stackedResidual(y, &J, r, &Jr);
     result.iterations.push_back(record);
     if (onIteration) onIteration(it + 1, record);

@@ -123,5 +123,47 @@ TEST(LandmarkFit, LevenbergMarquardtDampingAlsoRecoversTheActivations) {
               damped.result.iterations.size());
 }
 
+TEST(LandmarkFit, StopsWithTheReasonWhenTheEquilibriumFails) {
+  Scene scene = testutil::loadThreeMuscleBlock();
+  System& s = scene.system;
+  testutil::setActivations(s, {0.3, 0.6, 0.45});
+  ASSERT_TRUE(solveEquilibrium(s, testutil::tightEquilibrium()).converged());
+  const std::vector<Landmark> landmarks = testutil::nodeLandmarks(s, s.state.x, 4);
+  testutil::setActivations(s, {0, 0, 0});
+  FitParams params;
+  params.equilibrium = testutil::tightEquilibrium();
+  params.equilibrium.maxNewtonIterations = 1;  // too few from that state
+  LandmarkFit fit(s, landmarks, params);
+  const FitResult r = fit.run();
+  EXPECT_EQ(r.stop, FitStop::kEquilibriumFailed);
+  EXPECT_FALSE(r.converged());
+  EXPECT_NE(r.reason.find("the equilibrium did not converge"), std::string::npos) << r.reason;
+}
+
+TEST(LandmarkFit, RejectsBadLandmarksJawNodesWithAFreeDofAndSystemsWithoutActivations) {
+  Scene scene = testutil::loadThreeMuscleBlock();
+  System& s = scene.system;
+  std::vector<Landmark> landmarks = testutil::nodeLandmarks(s, s.state.x, 4);
+  FitParams params;
+  params.fitJaw = true;
+  params.jawNodes = {s.numNodes() - 1};  // a top node: free
+  EXPECT_THROW(LandmarkFit(s, landmarks, params), std::invalid_argument);
+  params.jawNodes = {0};  // a bottom node: fixed
+  EXPECT_NO_THROW(LandmarkFit(s, landmarks, params));
+  landmarks[0].nodes[2] = s.numNodes();
+  EXPECT_THROW(LandmarkFit(s, landmarks, {}), std::invalid_argument);
+  EXPECT_THROW(LandmarkFit(s, {}, {}), std::invalid_argument);
+
+  Scene passive = loadScene(testutil::writeScene("passive_block.yaml", R"(name: passive
+mesh: {generator: box, nodes: [2, 2, 2], size: [1, 1, 1]}
+materials: [{young_modulus: 1, poisson_ratio: 0.3}]
+force_models: [{type: hyperelastic, law: neo_hookean}]
+integrator: {type: quasistatic}
+)"));
+  EXPECT_THROW(LandmarkFit(passive.system, testutil::nodeLandmarks(passive.system,
+                                                                   passive.system.state.x, 1), {}),
+               std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace tt

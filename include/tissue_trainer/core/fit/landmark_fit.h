@@ -49,6 +49,7 @@ struct FitParams {
   EquilibriumParams equilibrium;
 };
 
+// kEquilibriumFailed: the equilibrium did not converge, or its stiffness could not be factored.
 enum class FitStop { kResidual, kStep, kIterationLimit, kNoDecrease, kEquilibriumFailed };
 
 struct FitIteration {
@@ -80,9 +81,11 @@ class LandmarkFit {
   Eigen::VectorXd parameters() const;
   // Sets theta (activations must lie in [0, 1]) and solves the equilibrium from the last one;
   // y gets the landmark positions (3L), J (3L x P) their Jacobian when asked for. False when
-  // the equilibrium did not converge (`equilibriumReport()` says why).
+  // the equilibrium did not converge or its stiffness could not be factored
+  // (`failure()` says which).
   bool evaluate(const Eigen::VectorXd& theta, Eigen::VectorXd& y, Eigen::MatrixXd* J = nullptr);
   const EquilibriumReport& equilibriumReport() const { return equilibrium_; }
+  const std::string& failure() const { return failure_; }
 
   // Runs the fit from the current parameters; `onIteration` (may be empty) sees each step.
   template <class Callback>
@@ -109,7 +112,8 @@ class LandmarkFit {
   Eigen::VectorXd landmarkPositions(const Eigen::VectorXd& x) const;
   // Rows of the landmark Jacobian of one full-DOF column dx/dtheta_k.
   Eigen::VectorXd landmarkColumn(const Eigen::VectorXd& dx) const;
-  void jacobian(const Eigen::VectorXd& y, Eigen::MatrixXd& J);
+  // False when the stiffness cannot be factored.
+  bool jacobian(const Eigen::VectorXd& raw, Eigen::MatrixXd& J);
   // Residual r (landmarks then orthogonality rows) and its Jacobian.
   void stackedResidual(const Eigen::VectorXd& y, const Eigen::MatrixXd* J, Eigen::VectorXd& r,
                        Eigen::MatrixXd* Jr) const;
@@ -128,6 +132,7 @@ class LandmarkFit {
   Eigen::Vector3d jawT_ = Eigen::Vector3d::Zero(), cranT_ = Eigen::Vector3d::Zero();
   EquilibriumSolver solver_;
   EquilibriumReport equilibrium_;
+  std::string failure_;  // why the last evaluate() failed
 };
 
 template <class Callback>
