@@ -111,5 +111,37 @@ TEST(LandmarkFitJaw, RecoversAKnownSmallJawRotationAndTranslation) {
   EXPECT_LT((fit.jawTranslation() - t).cwiseAbs().maxCoeff(), 1e-8);
 }
 
+TEST(LandmarkFitJaw, RecoversAKnownCraniumRotationAndTranslation) {
+  Scene scene = testutil::loadThreeMuscleBlock();
+  System& s = scene.system;
+  const Eigen::VectorXd rest = s.state.x;
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.05, Eigen::Vector3d(-2, 1, 1).normalized()).toRotationMatrix();
+  const Eigen::Vector3d t(1e-3, 2e-3, -5e-4);
+  const std::vector<double> truth = {0.3, 0.5, 0.2};
+  testutil::setActivations(s, truth);
+  ASSERT_TRUE(solveEquilibrium(s, testutil::tightEquilibrium()).converged());
+  std::vector<Landmark> landmarks = allNodeLandmarks(s, s.state.x, 3);
+  for (Landmark& l : landmarks) l.target = R * l.target + t;
+
+  testutil::setActivations(s, {0, 0, 0});
+  s.state.x = rest;
+  FitParams params;
+  params.equilibrium = testutil::tightEquilibrium();
+  params.fitCranium = true;
+  params.residualTolerance = 1e-12;
+  LandmarkFit fit(s, landmarks, params);
+  const FitResult r = fit.run();
+  std::printf("%zu iterations, residual %.3e m (%s)\n", r.iterations.size(), r.residual,
+              stopName(r.stop));
+  EXPECT_TRUE(r.converged()) << r.reason;
+  const Eigen::VectorXd p = fit.parameters();
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(p[i], truth[i], 1e-6) << i;
+  EXPECT_LT((fit.craniumMatrix() - R).cwiseAbs().maxCoeff(), 1e-6);
+  EXPECT_LT((fit.craniumTranslation() - t).cwiseAbs().maxCoeff(), 1e-8);
+  // The fitted state carries the post-transform.
+  const Eigen::VectorXd x = fit.fittedPositions();
+  EXPECT_LT((x.segment<3>(3 * landmarks[5].nodes[0]) - landmarks[5].target).norm(), 1e-9);
+}
+
 }  // namespace
 }  // namespace tt
