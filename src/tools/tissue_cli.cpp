@@ -1,6 +1,6 @@
 // tissue_cli: the command-line face of the core. Its output is a contract other checks rely
 // on (docs/cli.md). Exit codes: 0 ok, 2 bad input or usage, 3 the simulation
-// failed (non-finite state or no convergence).
+// failed (non-finite state or no convergence), 4 a landmark fit stopped without converging.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
