@@ -1,11 +1,13 @@
 // tissue_cli: the command-line face of the core. Its output is a contract other checks rely
 // on (docs/cli.md). Exit codes: 0 ok, 2 bad input or usage, 3 the simulation
-// failed (non-finite state or no convergence), 4 `run` was interrupted (SIGINT, SIGTERM).
+// failed (non-finite state or no convergence), 4 a landmark fit stopped without converging,
+// 5 `run` was interrupted (SIGINT, SIGTERM).
 #include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -15,6 +17,7 @@
 #include <vector>
 
 #include "tissue_trainer/core/error.h"
+#include "tissue_trainer/core/fit/landmark_fit.h"
 #include "tissue_trainer/core/material/teran_muscle.h"
 #include "tissue_trainer/core/model/hyperelastic.h"
 #include "tissue_trainer/core/integrate/quasistatic.h"
@@ -29,7 +32,7 @@
 
 namespace {
 
-constexpr int kOk = 0, kBadInput = 2, kRunFailed = 3, kInterrupted = 4;
+constexpr int kOk = 0, kBadInput = 2, kRunFailed = 3, kFitNotConverged = 4, kInterrupted = 5;
 
 // Set by SIGINT or SIGTERM during `run`: the run ends after the frame in progress. The
 // handler then steps aside, so a second signal ends the process at once (a frame that hangs).
@@ -65,6 +68,11 @@ const char* const kUsage =
     "                                       (quasi-static stretch and simple shear of the scene's\n"
     "                                        specimen; CSV strain,stretch,force_N,stress_Pa or\n"
     "                                        shear,work_J,energy_J)\n"
+    "  tissue_cli fit SCENE.yaml --targets FILE [--out DIR] [--max-iterations N] [--tolerance R]\n"
+    "                 [--step-tolerance S] [--levenberg-marquardt LAMBDA] [--cranium]\n"
+    "                 [--jaw-box XMIN YMIN ZMIN XMAX YMAX ZMAX] [--orthogonality-weight W]\n"
+    "                                       (landmark fit of the activations, jaw and cranium;\n"
+    "                                        exit 4 when it stops without converging)\n"
     "  tissue_cli models                    (every registered force model, law and integrator)\n";
 
 struct UsageError : std::runtime_error {
@@ -574,6 +582,78 @@ int models(const Arguments& args) {
   return kOk;
 }
 
+void printAffine(const char* what, const Eigen::Matrix3d& M, const Eigen::Vector3d& t) {
+  std::printf("%s", what);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) std::printf(" %.10g", M(i, j));
+  for (int i = 0; i < 3; ++i) std::printf(" %.10g", t[i]);
+  std::printf("\n");
+}
+
+// Landmark fitting (docs/cli.md, "fit"): activations [+ jaw, cranium] whose equilibrium puts
+// the targets file's landmarks at their targets.
+int fit(const Arguments& args) {
+  if (args.positional.size() != 1) throw UsageError("fit expects one SCENE.yaml");
+  tt::Scene scene = tt::loadScene(args.positional[0]);
+  tt::System& s = scene.system;
+  const std::vector<tt::Landmark> landmarks = tt::readLandmarks(args.text("targets"), s.mesh);
+  tt::FitParams params;
+  params.equilibrium.preconditioner = tt::EquilibriumParams::Preconditioning::kCholesky;
+  params.equilibrium.absoluteTolerance = 1e-11;
+  params.equilibrium.relativeTolerance = 1e-12;
+  if (args.has("max-iterations")) {
+    const double n = args.number("max-iterations");
+    if (n < 1 || n != std::floor(n)) throw UsageError("--max-iterations expects a positive integer");
+    params.maxIterations = static_cast<int>(n);
+  }
+  const auto positive = [&](const char* name, double& into) {
+    if (!args.has(name)) return;
+    into = args.number(name);
+    if (!(into > 0.0)) throw UsageError(std::string("--") + name + " expects a positive number");
+  };
+  positive("tolerance", params.residualTolerance);
+  positive("step-tolerance", params.stepTolerance);
+  positive("levenberg-marquardt", params.levenbergMarquardt);
+  positive("orthogonality-weight", params.orthogonalityWeight);
+  params.fitCranium = args.has("cranium");
+  if (args.has("jaw-box")) {
+    Eigen::Vector3d lo, hi;
+    for (int d = 0; d < 3; ++d) lo[d] = args.number("jaw-box", d), hi[d] = args.number("jaw-box", 3 + d);
+    for (int n = 0; n < s.numNodes(); ++n) {
+      const Eigen::Vector3d p = s.mesh.rest.col(n);
+      if ((p.array() >= lo.array()).all() && (p.array() <= hi.array()).all())
+        params.jawNodes.push_back(n);
+    }
+    if (params.jawNodes.empty()) throw UsageError("--jaw-box holds no node");
+    params.fitJaw = true;
+  }
+  tt::LandmarkFit fitter(s, landmarks, params);
+  std::printf("fit %s: %zu landmarks, %d parameters\n", scene.name.c_str(), landmarks.size(),
+              fitter.parameterCount());
+  const tt::FitResult result = fitter.run([](int k, const tt::FitIteration& it) {
+    std::printf("iteration %d residual %.6e step %.6e\n", k, it.residual, it.step);
+  });
+  for (int i = 0; i < fitter.activationCount(); ++i)
+    std::printf("activation %s %.10g\n", fitter.parameterName(i).c_str(), fitter.parameters()[i]);
+  if (params.fitJaw) printAffine("jaw", fitter.jawMatrix(), fitter.jawTranslation());
+  if (params.fitCranium) printAffine("cranium", fitter.craniumMatrix(), fitter.craniumTranslation());
+  std::printf("residual %.6e\n", result.residual);
+  if (args.has("out")) {
+    const std::string dir = args.text("out");
+    std::filesystem::create_directories(dir);
+    const Eigen::VectorXd x = fitter.fittedPositions();
+    tt::VtuFields fields;
+    fields.positions = &x;
+    tt::writeVtu(dir + "/fit.vtu", s.mesh, fields);
+  }
+  if (!result.converged()) {
+    std::printf("not converged (%s): %s\n", tt::stopName(result.stop), result.reason.c_str());
+    return kFitNotConverged;
+  }
+  std::printf("converged (%s): %s\n", tt::stopName(result.stop), result.reason.c_str());
+  return kOk;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -596,6 +676,11 @@ int main(int argc, char** argv) {
                                {"scene", 1}, {"stiffness-times", 1}, {"mooney-rivlin", 2},
                                {"bulk", 1}, {"peak-stress", 1}, {"activation", 1},
                                {"fiber-stretch", 1}, {"inversion-threshold", 1}, {"psd", 0}}));
+    if (command == "fit")
+      return fit(Arguments(argc, argv, 2,
+                           {{"targets", 1}, {"out", 1}, {"max-iterations", 1}, {"tolerance", 1},
+                            {"step-tolerance", 1}, {"levenberg-marquardt", 1}, {"cranium", 0},
+                            {"jaw-box", 6}, {"orthogonality-weight", 1}}));
     if (command == "models") return models(Arguments(argc, argv, 2, {}));
     if (command == "stretch")
       return stretch(Arguments(argc, argv, 2,

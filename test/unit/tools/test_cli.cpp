@@ -176,7 +176,7 @@ TEST(Cli, RunStopsWhenTheKineticEnergyFallsBelowTheThreshold) {
 }
 
 // SIGINT (and SIGTERM) end the run after the frame in progress: the outputs are written, the
-// reason printed and the exit code is 4. The signal comes from `timeout` once the run is under
+// reason printed and the exit code is 5. The signal comes from `timeout` once the run is under
 // way; the scene would run for hours otherwise.
 TEST(Cli, RunEndsCleanlyOnAnInterrupt) {
   const fs::path dir = fs::temp_directory_path() / "tt_cli_interrupt";
@@ -190,7 +190,7 @@ TEST(Cli, RunEndsCleanlyOnAnInterrupt) {
     const Result r = runCli("run " + (dir / "settle.yaml").string() + " --out " + out.string() +
                                 " --threads 1",
                             std::string("timeout --preserve-status -s ") + signal + " 1 ");
-    EXPECT_EQ(r.exitCode, 4) << signal << ": " << r.err << r.out;
+    EXPECT_EQ(r.exitCode, 5) << signal << ": " << r.err << r.out;
     EXPECT_NE(r.out.find(std::string("interrupted by SIG") + signal), std::string::npos) << r.out;
     EXPECT_NE(r.out.find(" stop=interrupt\n"), std::string::npos) << r.out;
     const size_t at = r.out.find("summary frames=");

@@ -1,0 +1,66 @@
+// The targets file of a landmark fit (docs/cli.md, "fit").
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "tissue_trainer/core/error.h"
+#include "tissue_trainer/core/fit/landmark_fit.h"
+
+namespace tt {
+
+namespace {
+
+bool parseNumber(const std::string& text, double& value) {
+  char* end = nullptr;
+  value = std::strtod(text.c_str(), &end);
+  return !text.empty() && *end == '\0' && std::isfinite(value);
+}
+
+}  // namespace
+
+std::vector<Landmark> readLandmarks(const std::string& path, const Mesh& mesh) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, 0, "cannot open the targets file");
+  std::vector<Landmark> landmarks;
+  std::string line;
+  for (long number = 1; std::getline(in, line); ++number) {
+    const auto fail = [&](const std::string& what) { throw InputError(path, number, what); };
+    std::istringstream words(line.substr(0, line.find('#')));
+    std::vector<std::string> tokens;
+    for (std::string w; words >> w;) tokens.push_back(w);
+    if (tokens.empty()) continue;
+    const bool isNode = tokens[0] == "node", isTet = tokens[0] == "tet";
+    if (!isNode && !isTet) fail("expected 'node N x y z' or 'tet T b0 b1 b2 b3 x y z', got '" + tokens[0] + "'");
+    const size_t expected = isNode ? 5 : 9;
+    if (tokens.size() != expected)
+      fail("'" + tokens[0] + "' expects " + std::to_string(expected - 1) + " numbers, got " +
+           std::to_string(tokens.size() - 1));
+    std::vector<double> v(expected - 1);
+    for (size_t k = 1; k < expected; ++k)
+      if (!parseNumber(tokens[k], v[k - 1])) fail("expected a finite number, got '" + tokens[k] + "'");
+    const int count = isNode ? mesh.numNodes() : mesh.numTets();
+    const double index = v[0];
+    if (index != std::floor(index) || index < 0 || index >= count)
+      fail(std::string(isNode ? "node" : "tet") + " index " + tokens[1] + " out of range [0, " +
+           std::to_string(count - 1) + "]");
+    Landmark l;
+    const int i = static_cast<int>(index);
+    if (isNode) {
+      l.nodes = {i, i, i, i};
+      l.weights = Eigen::Vector4d(1, 0, 0, 0);
+    } else {
+      l.nodes = mesh.tets[i];
+      l.weights = Eigen::Vector4d(v[1], v[2], v[3], v[4]);
+      if (l.weights.minCoeff() < 0.0) fail("barycentric weights must not be negative");
+      if (std::abs(l.weights.sum() - 1.0) > 1e-6)
+        fail("barycentric weights must sum to 1 (sum " + std::to_string(l.weights.sum()) + ")");
+    }
+    l.target = Eigen::Vector3d(v[expected - 4], v[expected - 3], v[expected - 2]);
+    landmarks.push_back(l);
+  }
+  if (landmarks.empty()) throw InputError(path, 0, "no landmarks in the targets file");
+  return landmarks;
+}
+
+}  // namespace tt

@@ -1,0 +1,95 @@
+// The contract of `tissue_cli fit` (docs/cli.md, "Landmark fitting: fit"): activations
+// recovered from the landmarks of a known equilibrium, exit 4 when the fit stops early, and a
+// malformed targets file as one error line.
+#include "cli_test_util.h"
+#ifdef TT_CLI_PATH
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "../fit/fit_test_util.h"
+
+namespace tt {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Writes the scene and a targets file of its equilibrium at the activations (0.3, 0.6, 0.45):
+// every 4th free node and one tet point.
+std::string writeTargets(const std::string& scenePath) {
+  Scene scene = loadScene(scenePath);
+  System& s = scene.system;
+  testutil::setActivations(s, {0.3, 0.6, 0.45});
+  EXPECT_TRUE(solveEquilibrium(s, testutil::tightEquilibrium()).converged());
+  const fs::path path = fs::temp_directory_path() / "tt_scene_tests" / "fit_targets.txt";
+  std::ofstream out(path);
+  out.precision(17);
+  out << "# landmarks of the block at (0.3, 0.6, 0.45)\n\n";
+  for (const Landmark& l : testutil::nodeLandmarks(s, s.state.x, 4))
+    out << "node " << l.nodes[0] << " " << l.target.transpose() << "\n";
+  const Tet& t = s.mesh.tets.back();
+  const Eigen::Vector3d p = 0.25 * (s.state.x.segment<3>(3 * t[0]) + s.state.x.segment<3>(3 * t[1]) +
+                                    s.state.x.segment<3>(3 * t[2]) + s.state.x.segment<3>(3 * t[3]));
+  out << "tet " << s.mesh.numTets() - 1 << " 0.25 0.25 0.25 0.25 " << p.transpose() << "  # centroid\n";
+  return path.string();
+}
+
+TEST(CliFit, RecoversTheActivationsAndWritesTheFittedState) {
+  const std::string scene = testutil::writeScene("three_muscles.yaml", testutil::threeMuscleBlock());
+  const std::string targets = writeTargets(scene);
+  const fs::path out = fs::temp_directory_path() / "tt_cli_fit_out";
+  fs::remove_all(out);
+  const testutil::CliResult r =
+      testutil::runCli("fit " + scene + " --targets " + targets + " --out " + out.string());
+  std::printf("%s", r.out.c_str());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  std::istringstream lines(r.out);
+  std::map<std::string, double> activation;
+  double residual = -1;
+  int iterations = 0;
+  bool converged = false;
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream words(line);
+    std::string word, name;
+    words >> word;
+    if (word == "activation") words >> name >> activation[name];
+    if (word == "residual") words >> residual;
+    if (word == "iteration") ++iterations;
+    if (word == "converged") converged = true;
+  }
+  EXPECT_TRUE(converged);
+  EXPECT_GT(iterations, 0);
+  EXPECT_NEAR(activation["lower"], 0.3, 1e-6);
+  EXPECT_NEAR(activation["middle"], 0.6, 1e-6);
+  EXPECT_NEAR(activation["upper"], 0.45, 1e-6);
+  EXPECT_GE(residual, 0.0);
+  EXPECT_LT(residual, 1e-9);
+  EXPECT_TRUE(fs::exists(out / "fit.vtu"));
+}
+
+TEST(CliFit, StopsWithExitCode4AndTheReasonWhenNotConverged) {
+  const std::string scene = testutil::writeScene("three_muscles.yaml", testutil::threeMuscleBlock());
+  const std::string targets = writeTargets(scene);
+  const testutil::CliResult r =
+      testutil::runCli("fit " + scene + " --targets " + targets + " --max-iterations 1");
+  EXPECT_EQ(r.exitCode, 4);
+  EXPECT_NE(r.out.find("\nnot converged (iteration_limit): "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\nresidual "), std::string::npos) << r.out;
+}
+
+TEST(CliFit, AMalformedTargetsFileIsOneErrorLine) {
+  const std::string scene = testutil::writeScene("three_muscles.yaml", testutil::threeMuscleBlock());
+  const std::string targets = testutil::writeScene("bad_targets.txt", "node 0 0 0 0\nnode 1 0 0\n");
+  const testutil::CliResult r = testutil::runCli("fit " + scene + " --targets " + targets);
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_EQ(r.err, targets + ":2: 'node' expects 4 numbers, got 3\n");
+  EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
+}  // namespace
+}  // namespace tt
+#endif
