@@ -30,19 +30,26 @@ std::vector<Landmark> readLandmarks(const std::string& path, const Mesh& mesh) {
     std::vector<std::string> tokens;
     for (std::string w; words >> w;) tokens.push_back(w);
     if (tokens.empty()) continue;
-    const bool isNode = tokens[0] == "node", isTet = tokens[0] == "tet";
-    if (!isNode && !isTet) fail("expected 'node N x y z' or 'tet T b0 b1 b2 b3 x y z', got '" + tokens[0] + "'");
-    const size_t expected = isNode ? 5 : 9;
-    if (tokens.size() != expected)
-      fail("'" + tokens[0] + "' expects " + std::to_string(expected - 1) + " numbers, got " +
-           std::to_string(tokens.size() - 1));
-    std::vector<double> v(expected - 1);
-    for (size_t k = 1; k < expected; ++k)
-      if (!parseNumber(tokens[k], v[k - 1])) fail("expected a finite number, got '" + tokens[k] + "'");
+    // `N x y z` or `T b0 b1 b2 b3 x y z`, optionally led by the word `node` or `tet`.
+    const bool named = tokens[0] == "node" || tokens[0] == "tet";
+    if (named) {
+      if (tokens.size() != (tokens[0] == "node" ? 5u : 9u))
+        fail("'" + tokens[0] + "' expects " + (tokens[0] == "node" ? "4" : "8") + " numbers, got " +
+             std::to_string(tokens.size() - 1));
+      tokens.erase(tokens.begin());
+    } else if (tokens.size() != 4 && tokens.size() != 8) {
+      fail("expected 'N x y z' (node index and target) or 'T b0 b1 b2 b3 x y z' (tet index, "
+           "barycentric weights and target), got " + std::to_string(tokens.size()) + " values");
+    }
+    const bool isNode = tokens.size() == 4;
+    const size_t expected = tokens.size();
+    std::vector<double> v(expected);
+    for (size_t k = 0; k < expected; ++k)
+      if (!parseNumber(tokens[k], v[k])) fail("expected a finite number, got '" + tokens[k] + "'");
     const int count = isNode ? mesh.numNodes() : mesh.numTets();
     const double index = v[0];
     if (index != std::floor(index) || index < 0 || index >= count)
-      fail(std::string(isNode ? "node" : "tet") + " index " + tokens[1] + " out of range [0, " +
+      fail(std::string(isNode ? "node" : "tet") + " index " + tokens[0] + " out of range [0, " +
            std::to_string(count - 1) + "]");
     Landmark l;
     const int i = static_cast<int>(index);
@@ -56,7 +63,7 @@ std::vector<Landmark> readLandmarks(const std::string& path, const Mesh& mesh) {
       if (std::abs(l.weights.sum() - 1.0) > 1e-6)
         fail("barycentric weights must sum to 1 (sum " + std::to_string(l.weights.sum()) + ")");
     }
-    l.target = Eigen::Vector3d(v[expected - 4], v[expected - 3], v[expected - 2]);
+    l.target = Eigen::Vector3d(v[expected - 3], v[expected - 2], v[expected - 1]);
     landmarks.push_back(l);
   }
   if (landmarks.empty()) throw InputError(path, 0, "no landmarks in the targets file");

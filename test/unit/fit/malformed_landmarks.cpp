@@ -19,7 +19,10 @@ integrator: {type: quasistatic}
   const std::vector<testutil::BadScene> cases = {
       {"too few numbers", good + "node 1 0 0\n", 5, "expects 4 numbers"},
       {"too many numbers", good + "tet 0 0.25 0.25 0.25 0.25 1 2 3 4\n", 5, "expects 8 numbers"},
-      {"unknown kind", good + "vertex 1 0 0 0\n", 5, "expected 'node N x y z'"},
+      {"unknown kind", good + "vertex 1 0 0 0\n", 5, "expected 'N x y z' (node index and target)"},
+      {"five numbers", good + "1 0 0 0 0\n", 5, "or 'T b0 b1 b2 b3 x y z'"},
+      {"numeric node out of range", good + "8 0 0 0\n", 5, "node index 8 out of range"},
+      {"numeric tet weights", good + "0 0.5 0.5 0.5 0 0 0 0\n", 5, "sum to 1"},
       {"node out of range", good + "node 8 0 0 0\n", 5, "node index 8 out of range"},
       {"negative node", good + "node -1 0 0 0\n", 5, "out of range"},
       {"fractional node", good + "node 1.5 0 0 0\n", 5, "out of range"},
@@ -44,9 +47,16 @@ force_models: [{type: hyperelastic, law: neo_hookean}]
 integrator: {type: quasistatic}
 )"));
   const std::string path = testutil::writeScene(
-      "targets_good.txt", "# targets\n\nnode 3 0.5 0 -1\n  tet 1 0.1 0.2 0.3 0.4 1 2 3  # c\n");
+      "targets_good.txt",
+      "# targets\n\nnode 3 0.5 0 -1\n  tet 1 0.1 0.2 0.3 0.4 1 2 3  # c\n"
+      "3 0.5 0 -1\n1 0.1 0.2 0.3 0.4 1 2 3\n");  // the same without the words
   const std::vector<Landmark> l = readLandmarks(path, scene.system.mesh);
-  ASSERT_EQ(l.size(), 2u);
+  ASSERT_EQ(l.size(), 4u);
+  for (int k : {0, 1}) {
+    EXPECT_EQ(l[k + 2].nodes, l[k].nodes);
+    EXPECT_EQ(l[k + 2].weights, l[k].weights);
+    EXPECT_EQ(l[k + 2].target, l[k].target);
+  }
   EXPECT_EQ(l[0].nodes[0], 3);
   EXPECT_EQ(l[0].weights, Eigen::Vector4d(1, 0, 0, 0));
   EXPECT_EQ(l[0].target, Eigen::Vector3d(0.5, 0, -1));
