@@ -29,11 +29,12 @@ namespace bench_adamss {
 struct Options {
   std::string out = "docs/report/adamss";
   bool quick = false;
+  bool plot = true;                 // --no-plot: the CSV files only
   std::vector<std::string> values;  // of the experiment's own options, in the order named
 };
 
-// Reads --quick, --out DIR and the experiment's options `named` (each "--name" takes one
-// value, empty when not given). Anything else: one usage line on stderr, false.
+// Reads --quick, --out DIR, --no-plot and the experiment's options `named` (each "--name" takes
+// one value, empty when not given). Anything else: one usage line on stderr, false.
 inline bool parseOptions(const char* experiment, const Args& args,
                          const std::vector<std::string>& named, Options& o) {
   o.values.assign(named.size(), "");
@@ -42,6 +43,10 @@ inline bool parseOptions(const char* experiment, const Args& args,
     const bool hasValue = i + 1 < args.size();
     if (a == "--quick") {
       o.quick = true;
+      continue;
+    }
+    if (a == "--no-plot") {
+      o.plot = false;
       continue;
     }
     if (a == "--out" && hasValue) {
@@ -55,7 +60,8 @@ inline bool parseOptions(const char* experiment, const Args& args,
         known = true;
       }
     if (known) continue;
-    std::string usage = std::string("usage: bench_adamss ") + experiment + " [--quick] [--out DIR]";
+    std::string usage =
+        std::string("usage: bench_adamss ") + experiment + " [--quick] [--out DIR] [--no-plot]";
     for (const std::string& n : named) usage += " [--" + n + " VALUE]";
     std::fprintf(stderr, "bench_adamss %s: unexpected argument '%s'\n%s\n", experiment, a.c_str(),
                  usage.c_str());
@@ -155,13 +161,17 @@ inline FILE* openCsv(const Options& o, const std::string& name) {
   return f;
 }
 
-// Draws DIR/EXPERIMENT.png from the experiment's CSV with scripts/report/adamss_plots.py.
+// Draws DIR/EXPERIMENT.png from the experiment's CSV with scripts/report/adamss_plots.py
+// (unless --no-plot).
 // A missing python or matplotlib is a warning, not a failure (the CSV is the result).
 inline void drawPlot(const char* experiment, const Options& o) {
+  if (!o.plot) return;
   const std::string command = std::string("/usr/bin/python3 ") + TT_SOURCE_ROOT +
                               "/scripts/report/adamss_plots.py " + experiment + " '" + o.out +
                               "'";
-  if (std::system(command.c_str()) != 0)
+  if (std::system(command.c_str()) == 0)
+    std::printf("drew %s/%s.png\n", o.out.c_str(), experiment);
+  else
     std::fprintf(stderr, "bench_adamss %s: no plot (%s failed)\n", experiment, command.c_str());
 }
 

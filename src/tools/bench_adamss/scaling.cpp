@@ -8,7 +8,7 @@
 // fitted per preconditioner and thread count (one thread unless --threads asks for more).
 // Medians over repeats (each repeat a fresh system from rest); CPU time is the measure (the
 // wall time of a shared machine is not).
-//   bench_adamss scaling [--quick] [--out DIR] [--sizes 3,4,6] [--threads 1,2]
+//   bench_adamss scaling [--quick] [--out DIR] [--no-plot] [--sizes 3,4,6] [--threads 1,2]
 //                        [--preconditioners jacobi,cholesky] [--steps N] [--repeats N]
 //   -> DIR/scaling.csv, DIR/scaling_fits.csv, scaling.png
 #include <algorithm>
@@ -164,7 +164,7 @@ int runScaling(const Args& args) {
   }
   std::fclose(fits);
   drawPlot("scaling", o);
-  std::printf("wrote %s/scaling.csv, scaling_fits.csv and scaling.png\n", o.out.c_str());
+  std::printf("wrote %s/scaling.csv and scaling_fits.csv\n", o.out.c_str());
   return 0;
 }
 
