@@ -3,6 +3,10 @@
 // fibres ("Adamss: Advanced Anisotropic Mass-Spring System", Sec. 2.8.1), run dynamically by
 // each integrator, for the two Adamss models of adamss_bench_models.h (no volume term).
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
