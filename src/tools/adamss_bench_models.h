@@ -84,7 +84,8 @@ inline void addModel(System& s, const std::string& name, const Scaling& scaling 
   } else {
     // Table 2.2 (kPa): axial k_l1, k_l2, k_l3 per axis; torsion per axis pair.
     static const double axial[3][3] = {{6.358, 0, 768}, {0, 0, 288.525}, {0.305, 0, 5.699}};
-    static const double torsion[3][3] = {{3.355, 0, 97.374}, {97.374, 0, 3.355}, {45.896, 0, 2.261}};
+    static const double torsion[3][3] = {
+        {3.355, 0, 97.374}, {97.374, 0, 3.355}, {45.896, 0, 2.261}};
     s.models.push_back(registeredModel(
         "{type: adamss_axial_springs, area: true, stress_unit: kPa, stiffness: " +
             scaledCoefficients(axial, scaling.stiffness) + "}",

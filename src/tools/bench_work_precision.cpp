@@ -13,7 +13,8 @@
 //                             Adamss models only (work_precision_adamss.h); error of the end
 //                             stress against the Hunter law
 // Each run's error and CPU / wall time are measured in this process (one thread). --quick: two
-// presets (edge_length, tensor_mass) and the two Adamss models, one step or tolerance per integrator, looser references.
+// presets (edge_length, tensor_mass) and the two Adamss models, one step or tolerance per
+// integrator, looser references.
 // Writes DIR/work_precision.csv (one row per run) and DIR/work_precision_facts.csv (the
 // analytic values, references and their accuracy).
 //   bench_work_precision [--quick] [--out DIR] [--problems a,b] [--models a,b] [--time-limit S]

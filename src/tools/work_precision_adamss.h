@@ -45,7 +45,8 @@ class UniaxialStretch : public Problem {
     }
     const HunterConstants k = HunterConstants::table21();
     exact_ = stretch * PoleZeroTerm{k.k[0], k.a[0], k.b[0]}.first(0.5 * (stretch * stretch - 1.0));
-    facts = {{"stress_hunter", exact_, "Pa", "lambda w_11'((lambda^2 - 1) / 2) at 15 % (Eq. 2.153)"},
+    facts = {{"stress_hunter", exact_, "Pa",
+              "lambda w_11'((lambda^2 - 1) / 2) at 15 % (Eq. 2.153)"},
              {"damping", kDamping, "1/s", "mass-proportional"},
              {"duration", duration, "s", "50 ms ramp, then held"},
              {"stable_step", stableStep, "s", "2 / omega_max at 15 % stretch (both models)"}};
@@ -124,7 +125,9 @@ class UniaxialStretch : public Problem {
     for (int d = 0; d < s.numDofs(); ++d)
       if (s.isConstrained[d]) scale[d] = 0.0;
     const Eigen::MatrixXd A = scale.asDiagonal() * K * scale.asDiagonal();
-    return std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(A).eigenvalues().maxCoeff()));
+    const double largest =
+        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(A).eigenvalues().maxCoeff();
+    return std::sqrt(std::max(0.0, largest));
   }
 
   double exact_ = 0.0;

@@ -104,20 +104,21 @@ int runScaling(const Args& args) {
   if (!parseOptions("scaling", args, {"sizes", "threads", "preconditioners", "steps", "repeats"},
                     o))
     return 2;
-  const std::vector<int> sizes =
-      integerList(o.values[0], o.quick ? std::vector<int>{2, 3, 4} : std::vector<int>{3, 4, 5, 6, 8});
+  const std::vector<int> sizes = integerList(
+      o.values[0], o.quick ? std::vector<int>{2, 3, 4} : std::vector<int>{3, 4, 5, 6, 8});
   const std::vector<int> threads = integerList(o.values[1], {1});
   std::vector<std::string> preconditioners =
       o.values[2].empty() ? std::vector<std::string>{"jacobi", "cholesky"}
                           : bench::splitList(o.values[2]);
   bench::requireKnown("bench_adamss scaling", "preconditioner", preconditioners,
                       {"jacobi", "cholesky"});
-  const int steps = o.values[3].empty() ? (o.quick ? 100 : 1000)
-                                        : bench::positiveInteger("bench_adamss scaling", "--steps",
-                                                                 o.values[3].c_str());
-  const int repeats = o.values[4].empty() ? (o.quick ? 1 : 3)
-                                          : bench::positiveInteger("bench_adamss scaling",
-                                                                   "--repeats", o.values[4].c_str());
+  const char* tool = "bench_adamss scaling";
+  const int steps = o.values[3].empty()
+                        ? (o.quick ? 100 : 1000)
+                        : bench::positiveInteger(tool, "--steps", o.values[3].c_str());
+  const int repeats = o.values[4].empty()
+                          ? (o.quick ? 1 : 3)
+                          : bench::positiveInteger(tool, "--repeats", o.values[4].c_str());
   std::vector<Sample> samples;
   for (const std::string& pc : preconditioners)
     for (int t : threads)

@@ -81,7 +81,8 @@ TEST(BenchAdamss, VolumeQuick) {
   std::map<double, double> worst;  // p (kPa) -> max |dV/V0|
   for (const auto& r : namedRows(outputDir() / "volume_summary.csv")) {
     ASSERT_EQ(r.at("ok"), "1") << r.at("failure");
-    if (r.at("mesh") == "hex") worst[std::stod(r.at("p_kpa"))] = std::stod(r.at("max_abs_volume_change"));
+    if (r.at("mesh") == "hex")
+      worst[std::stod(r.at("p_kpa"))] = std::stod(r.at("max_abs_volume_change"));
   }
   ASSERT_EQ(worst.size(), 5u);
   EXPECT_GT(worst[0.0], 0.02);
