@@ -140,6 +140,30 @@ inline double meshVolume(const Mesh& mesh, const Eigen::VectorXd& x) {
   return volume;
 }
 
+// The volume the volume term sees (Eq. 2.86 through the virtual hexahedron): tets exactly,
+// each hex as V0 det F at its centre, for the axis-aligned box hexes of boxGrid (there column i
+// of F(0) is the mean of the nodes on the hex's upper face i minus that of its lower face, over
+// the edge length). Hourglass modes change meshVolume but not this.
+inline double centreVolume(const Mesh& mesh, const Eigen::VectorXd& x) {
+  double volume = 0.0;
+  for (const Tet& t : mesh.tets) {
+    Eigen::Matrix3Xd nodes(3, 4);
+    for (int p = 0; p < 4; ++p) nodes.col(p) = x.segment<3>(3 * t[p]);
+    volume += tetVolume(nodes, Tet{0, 1, 2, 3});
+  }
+  for (const Hex& h : mesh.hexes) {
+    Eigen::Vector3d lo = mesh.rest.col(h[0]), hi = lo;
+    for (int p : h) lo = lo.cwiseMin(mesh.rest.col(p)), hi = hi.cwiseMax(mesh.rest.col(p));
+    const Eigen::Vector3d centre = 0.5 * (lo + hi), edge = hi - lo;
+    Eigen::Matrix3d F = Eigen::Matrix3d::Zero();
+    for (int p : h)
+      for (int i = 0; i < 3; ++i)
+        F.col(i) += (mesh.rest(i, p) > centre[i] ? 0.25 : -0.25) / edge[i] * x.segment<3>(3 * p);
+    volume += edge.prod() * F.determinant();
+  }
+  return volume;
+}
+
 // The nodes whose rest coordinate `axis` is within 1e-9 m of `value`.
 inline std::vector<int> nodesAt(const Mesh& mesh, int axis, double value) {
   std::vector<int> nodes;

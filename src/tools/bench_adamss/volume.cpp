@@ -8,8 +8,11 @@
 // are the choices here. The same runs on the six-tet split of the cuboid (not in quick mode).
 // The chapter's claim: p above 1e3 kPa keeps |dV/V0| well below 1 %.
 //   bench_adamss volume [--quick] [--out DIR] [--no-plot]
-//   -> DIR/volume.csv (mesh, p_kpa, t, volume_change, sag; every 5 ms), DIR/volume_summary.csv
-//      (largest change over every step), volume.png
+// Besides the volume (hexes by their six-tet split) the CSV has the volume the volume term sees
+// (hexes as V0 det F at the centre, experiment_support.h centreVolume): on hexes the two differ
+// by the hourglass modes.
+//   -> DIR/volume.csv (mesh, p_kpa, t, volume_change, centre_volume_change, sag; every 5 ms),
+//      DIR/volume_summary.csv (largest change over every step), volume.png
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -31,7 +34,7 @@ const Eigen::Vector3d kSize(0.06, 0.06, 0.12);
 struct VolumeRun {
   std::string mesh;
   double pKpa = 0.0;  // 0: no volume term
-  std::vector<double> t, change, sag;
+  std::vector<double> t, change, centreChange, sag;
   bool ok = true;
   std::string failure;
 };
@@ -47,7 +50,9 @@ Mesh hangingCuboid(TetSplit split) {
 }
 
 VolumeRun hang(const std::string& meshName, TetSplit split, double pKpa, double duration) {
-  VolumeRun run{meshName, pKpa, {}, {}, {}, true, ""};
+  VolumeRun run;
+  run.mesh = meshName;
+  run.pKpa = pKpa;
   System s(hangingCuboid(split), {Material::isotropic(1.0, 0.0, kDensity)});
   s.models.push_back(hunterModel(s.mesh));
   if (pKpa > 0.0) s.models.push_back(volumeModel(s.mesh, 1e3 * pKpa));
@@ -66,6 +71,7 @@ VolumeRun hang(const std::string& meshName, TetSplit split, double pKpa, double 
     for (int n : bottom) z += s.state.x[3 * n + 2];
     run.t.push_back(s.state.t);
     run.change.push_back(meshVolume(s.mesh, s.state.x) / v0 - 1.0);
+    run.centreChange.push_back(centreVolume(s.mesh, s.state.x) / v0 - 1.0);
     run.sag.push_back(-z / static_cast<double>(bottom.size()));
   };
   record();
@@ -106,32 +112,34 @@ int runVolume(const Args& args) {
     }
 
   FILE* csv = openCsv(o, "volume.csv");
-  std::fprintf(csv, "mesh,p_kpa,t,volume_change,sag_m\n");
+  std::fprintf(csv, "mesh,p_kpa,t,volume_change,centre_volume_change,sag_m\n");
   for (const VolumeRun& r : runs)
     for (std::size_t k = 0; k < r.t.size(); ++k)
       if (k % kCsvEvery == 0 || k + 1 == r.t.size())  // the summary uses every step
-        std::fprintf(csv, "%s,%g,%.6g,%.9g,%.9g\n", r.mesh.c_str(), r.pKpa, r.t[k], r.change[k],
-                     r.sag[k]);
+        std::fprintf(csv, "%s,%g,%.6g,%.9g,%.9g,%.9g\n", r.mesh.c_str(), r.pKpa, r.t[k],
+                     r.change[k], r.centreChange[k], r.sag[k]);
   std::fclose(csv);
 
   FILE* summary = openCsv(o, "volume_summary.csv");
   std::fprintf(summary, "mesh,p_kpa,duration_s,max_abs_volume_change,final_volume_change,"
-                        "final_sag_m,below_1pct,ok,failure\n");
+                        "max_abs_centre_volume_change,final_sag_m,below_1pct,ok,failure\n");
   std::printf("\nVolume preservation under gravity (Sec. 2.8.2): 6 x 6 x 12 cm cuboid, top fixed, "
               "Hunter law + p (det F - 1)^2, backward Euler h = %g s, %g s\n",
               kStep, duration);
-  std::printf("%-9s %9s %16s %16s %12s %s\n", "mesh", "p (kPa)", "max |dV/V0|", "final dV/V0",
-              "sag (mm)", "below 1 %");
+  std::printf("%-9s %9s %14s %14s %20s %10s %s\n", "mesh", "p (kPa)", "max |dV/V0|",
+              "final dV/V0", "max |dV/V0| (centre)", "sag (mm)", "below 1 %");
   bool claimHolds = true;
   for (const VolumeRun& r : runs) {
     const double worst = largestMagnitude(r.change);
     const bool below = r.ok && worst < 0.01;
     if (r.pKpa >= 1e3) claimHolds = claimHolds && below;
-    std::fprintf(summary, "%s,%g,%g,%.6g,%.6g,%.6g,%d,%d,%s\n", r.mesh.c_str(), r.pKpa,
-                 r.t.back(), worst, r.change.back(), r.sag.back(), below, r.ok,
+    const double centre = largestMagnitude(r.centreChange);
+    std::fprintf(summary, "%s,%g,%g,%.6g,%.6g,%.6g,%.6g,%d,%d,%s\n", r.mesh.c_str(), r.pKpa,
+                 r.t.back(), worst, r.change.back(), centre, r.sag.back(), below, r.ok,
                  r.failure.c_str());
-    std::printf("%-9s %9g %16.3e %16.3e %12.3f %s\n", r.mesh.c_str(), r.pKpa, worst,
-                r.change.back(), 1e3 * r.sag.back(), !r.ok ? "failed" : below ? "yes" : "no");
+    std::printf("%-9s %9g %14.3e %14.3e %20.3e %10.3f %s\n", r.mesh.c_str(), r.pKpa, worst,
+                r.change.back(), centre, 1e3 * r.sag.back(),
+                !r.ok ? "failed" : below ? "yes" : "no");
   }
   std::fclose(summary);
   std::printf("claim (p >= 1e3 kPa keeps |dV/V0| below 1 %%): %s\n",
