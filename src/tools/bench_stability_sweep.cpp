@@ -26,6 +26,9 @@
 // 3. Extreme cases at E = 10 kPa, nu = 0.45: 80 % compression, a forced inversion, a
 //    180-degree twist, a 20 m/s impact, sliver elements (the block flattened 50:1).
 //    -> extreme_cases.csv
+// Besides the registry's presets, the grid and the extreme cases run the two Adamss tissue
+// models of adamss_bench_models.h (adamss_hunter, adamss_springs), their stiffness scaled to
+// Young's modulus and a volume term from the Poisson ratio (see that file).
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <algorithm>
@@ -39,6 +42,7 @@
 #include <string>
 #include <vector>
 
+#include "adamss_bench_models.h"
 #include "bench_support.h"
 #include "tissue_trainer/core/integrate/abm3.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
@@ -71,7 +75,10 @@ std::unique_ptr<System> blockSystem(const std::string& model, double young, doub
                                     const Mesh& mesh) {
   auto s = std::make_unique<System>(mesh, std::vector<Material>{
                                               Material::isotropic(young, poisson, kDensity)});
-  s->models.push_back(makeElasticModel(model, s->mesh, s->materials));
+  if (adamss_bench::isAdamssModel(model))
+    adamss_bench::addModel(*s, model, adamss_bench::scalingFor(young, poisson));
+  else
+    s->models.push_back(makeElasticModel(model, s->mesh, s->materials));
   s->damping = kDampingRate * s->mass;
   s->updateConstraints();
   return s;
@@ -278,6 +285,7 @@ Grid grid(bool quick) {
   g.poisson = {0.3, 0.45, 0.49, 0.4999};
   g.steps = {1e-5, 1e-4, 1e-3, 1e-2, 1e-1};
   g.models = bench::elasticModelNames();
+  for (const std::string& m : adamss_bench::modelNames()) g.models.push_back(m);  // Adamss
   g.integrators = kIntegrators;
   g.integrators.insert(g.integrators.end(), kAdaptiveIntegrators.begin(),
                        kAdaptiveIntegrators.end());
@@ -480,8 +488,10 @@ void sweepExtremes(bool quick, const std::string& path) {
   csv << "case,integrator,model,step,outcome,energy_growth,inverted_max,guard_recoveries,"
          "guard_halvings,guard_failures,wall_seconds,failure\n";
   const double young = 1e4, poisson = 0.45;
-  const std::vector<std::string> models =
+  std::vector<std::string> models =
       quick ? std::vector<std::string>{"edge_length"} : std::vector<std::string>{"edge_length", "stvk_displacement", "tensor_mass"};
+  if (!quick)  // the Adamss models
+    for (const std::string& m : adamss_bench::modelNames()) models.push_back(m);
   std::vector<std::pair<std::string, double>> steppers =
       quick ? std::vector<std::pair<std::string, double>>{{"backward_euler", 1e-3}}
             : std::vector<std::pair<std::string, double>>{

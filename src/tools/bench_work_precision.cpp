@@ -9,8 +9,12 @@
 //      spindle_pull           the spindle muscle pulled by one node; error against Radau IIA
 //                             at a very tight tolerance
 //   4. patch                  affine boundary motion; error against the affine field
+//   5. uniaxial_stretch       a myocardium cube stretched 15 % along its fibres, for the two
+//                             Adamss models only (work_precision_adamss.h); error of the end
+//                             stress against the Hunter law
 // Each run's error and CPU / wall time are measured in this process (one thread). --quick: two
-// models (edge_length, tensor_mass), one step or tolerance per integrator, looser references.
+// presets (edge_length, tensor_mass) and the two Adamss models, one step or tolerance per
+// integrator, looser references.
 // Writes DIR/work_precision.csv (one row per run) and DIR/work_precision_facts.csv (the
 // analytic values, references and their accuracy).
 //   bench_work_precision [--quick] [--out DIR] [--problems a,b] [--models a,b]
@@ -35,6 +39,7 @@
 #include "tissue_trainer/core/integrate/newtonian.h"
 #include "tissue_trainer/core/parallel.h"
 #include "work_precision_csv.h"
+#include "work_precision_adamss.h"
 #include "work_precision_problems.h"
 
 namespace {
@@ -252,6 +257,15 @@ RunResult meshConvergenceRun(const MeshRun& run) {
 
 // --- main --------------------------------------------------------------------------------------
 
+// The chosen models a problem runs: its own (the Adamss models), or else the presets.
+std::vector<std::string> modelsOf(const Problem& p, const std::vector<std::string>& chosen) {
+  std::vector<std::string> out;
+  for (const std::string& m : chosen)
+    if (p.models.empty() ? !adamss_bench::isAdamssModel(m) : bench::selected(p.models, m))
+      out.push_back(m);
+  return out;
+}
+
 Options parseOptions(int argc, char** argv) {
   Options o;
   bool timeLimitGiven = false;
@@ -278,7 +292,8 @@ Options parseOptions(int argc, char** argv) {
                        "backward_euler_newton", "radau_iia", "abm3", "backward_euler_adaptive",
                        "static_newton"});
   if (o.quick && !timeLimitGiven) o.timeLimit = 3.0;
-  if (o.quick && o.models.empty()) o.models = {"edge_length", "tensor_mass"};
+  if (o.quick && o.models.empty())
+    o.models = {"edge_length", "tensor_mass", "adamss_hunter", "adamss_springs"};
   return o;
 }
 
@@ -292,6 +307,9 @@ std::vector<std::unique_ptr<Problem>> makeProblems(const Options& o) {
   all.push_back(std::move(beam));
   all.push_back(std::move(spindle));
   all.push_back(std::make_unique<PatchTest>());
+  auto stretch = std::make_unique<UniaxialStretch>();
+  if (o.quick) stretch->referenceTolerance = 1e-6;
+  all.push_back(std::move(stretch));
   std::vector<std::string> names = {"cantilever_static_mesh"};  // the mesh-refinement runs
   for (const auto& p : all) names.push_back(p->name);
   bench::requireKnown("bench_work_precision", "problem", o.problems, names);
@@ -318,20 +336,22 @@ int main(int argc, char** argv) {
   const Options options = parseOptions(argc, argv);
   setThreadCount(1);
   std::vector<std::string> models = bench::elasticModelNames();
+  for (const std::string& m : adamss_bench::modelNames()) models.push_back(m);
   bench::keepOnly("bench_work_precision", "model", models, options.models);
   auto problems = makeProblems(options);  // names checked before anything is written
   std::filesystem::create_directories(options.out);
 
   for (auto& p : problems) {
     const double wall0 = bench::wallSeconds();
-    p->prepare(models);
+    p->prepare(modelsOf(*p, models));
     std::printf("prepared %s in %.1f s\n", p->name.c_str(), bench::wallSeconds() - wall0);
   }
   std::vector<MeshRun> meshRuns;
   if (bench::selected(options.problems, "cantilever_static_mesh") &&
       bench::selected(options.integrators, "static_newton"))
     for (int cells : options.quick ? std::vector<int>{1, 2} : std::vector<int>{1, 2, 3, 4, 6, 8})
-      for (const std::string& m : models) meshRuns.push_back({cells, m});
+      for (const std::string& m : models)
+        if (!adamss_bench::isAdamssModel(m)) meshRuns.push_back({cells, m});
 
   struct Task {
     const Problem* problem;
@@ -340,7 +360,7 @@ int main(int argc, char** argv) {
   };
   std::vector<Task> tasks;
   for (const auto& p : problems)
-    for (const std::string& m : models)
+    for (const std::string& m : modelsOf(*p, models))
       for (const IntegratorSpec& spec : allIntegrators(*p, options.quick))
         if (bench::selected(options.integrators, spec.integrator))
           tasks.push_back({p.get(), m, spec});

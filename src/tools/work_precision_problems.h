@@ -58,6 +58,8 @@ class Problem {
   double stableStep = 0.0;      // s; 2 / omega_max at rest
   std::vector<double> implicitSteps;  // s; the backward Euler sweep
   std::vector<Fact> facts;
+  // The models this problem runs instead of the registry's presets (empty: the presets).
+  std::vector<std::string> models;
 };
 
 inline RadauOptions radauOptions(const Problem& p, double tol) {
