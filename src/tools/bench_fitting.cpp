@@ -59,9 +59,14 @@ int main() {
     tt::System& s = scene.system;
     const Eigen::VectorXd rest = s.state.x;
     setActivations(s, truth);
-    if (!tt::solveEquilibrium(s, eq).converged()) return 3;
+    const tt::EquilibriumReport truthSolve = tt::solveEquilibrium(s, eq);
+    if (!truthSolve.converged()) {
+      std::fprintf(stderr, "bench_fitting: the ground truth's equilibrium failed: %s\n",
+                   truthSolve.reason.c_str());
+      return 3;
+    }
     std::mt19937 rng(7);
-    std::normal_distribution<double> gauss(0.0, noise);
+    std::normal_distribution<double> gauss(0.0, noise > 0 ? noise : 1.0);
     std::vector<tt::Landmark> landmarks;
     for (int n = 0; n < s.numNodes(); n += stride) {
       if (s.isConstrained[3 * n]) continue;

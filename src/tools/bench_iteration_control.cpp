@@ -290,6 +290,11 @@ void twitch(const std::string& scenePath, const std::string& dir, bool quick) {
       iterations.push_back(row.iterations);
       steps.push_back(row.step);
     }
+    if (steps.empty()) {
+      std::printf("[twitch] %-17s %s before the first step was kept\n", label,
+                  r.failed ? ("FAILED: " + r.failure).c_str() : "stopped");
+      continue;
+    }
     const auto [hMin, hMax] = std::minmax_element(steps.begin(), steps.end());
     const auto [nMin, nMax] = std::minmax_element(iterations.begin(), iterations.end());
     std::printf("[twitch] %-17s %s, %zu steps kept, %d redone, CPU %.2f s; iterations %g..%g "
@@ -381,7 +386,8 @@ void towardsInstability(const std::string& scenePath, const std::string& dir, bo
                 rung.ladder.c_str(), rung.value,
                 outcome(r).c_str(),
                 all.size(), bench::median(all), runMax, lastMax, lastStep,
-                std::exp(*std::min_element(logStep.begin(), logStep.end())), r.unconvergedLinear,
+                logStep.empty() ? NAN : std::exp(*std::min_element(logStep.begin(), logStep.end())),
+                r.unconvergedLinear,
                 pearson(iterations, force), pearson(logStep, force),
                 r.failed ? guardedOutcome(scenePath, rung.variant, dir).c_str() : "");
     std::fflush(stdout);
@@ -401,8 +407,10 @@ int main(int argc, char** argv) {
     if (a == "--quick") quick = true;
     else if (a == "--scene" && hasValue) scene = argv[++i];
     else if (a == "--out" && hasValue) out = argv[++i];
-    else if (a == "--lower" && hasValue) tt::lowerLimit = std::atoi(argv[++i]);
-    else if (a == "--upper" && hasValue) tt::upperLimit = std::atoi(argv[++i]);
+    else if (a == "--lower" && hasValue)
+      tt::lowerLimit = tt::bench::positiveInteger("bench_iteration_control", a, argv[++i]);
+    else if (a == "--upper" && hasValue)
+      tt::upperLimit = tt::bench::positiveInteger("bench_iteration_control", a, argv[++i]);
     else if (a == "--twitch-only") twitchOnly = true;
     else {
       std::fprintf(stderr, "usage: bench_iteration_control [--scene FILE] [--out DIR] [--quick] "
@@ -410,7 +418,18 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  std::filesystem::create_directories(out);
+  if (tt::lowerLimit >= tt::upperLimit) {
+    std::fprintf(stderr, "bench_iteration_control: --lower (%d) must be below --upper (%d)\n",
+                 tt::lowerLimit, tt::upperLimit);
+    return 2;
+  }
+  std::error_code made;
+  std::filesystem::create_directories(out, made);
+  if (made) {
+    std::fprintf(stderr, "bench_iteration_control: cannot create %s: %s\n", out.c_str(),
+                 made.message().c_str());
+    return 2;
+  }
   tt::setThreadCount(1);
   try {
     tt::twitch(scene, out, quick);

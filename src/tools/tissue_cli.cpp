@@ -54,7 +54,7 @@ const char* const kUsage =
     "  tissue_cli convert IN OUT            (OUT: .vtu, .msh (Gmsh v2), .vtk, .node/.ele (TetGen))\n"
     "  tissue_cli run SCENE.yaml [--duration T] [--out DIR] [--threads N]\n"
     "                                       (N: threads of the element loops, default: the cores;\n"
-    "                                        SIGINT/SIGTERM end it after the frame, exit code 4)\n"
+    "                                        SIGINT/SIGTERM end it after the frame, exit code 5)\n"
     "  tissue_cli forces --mesh MESH --deformed POSITIONS --model NAME --lambda L --mu M\n"
     "                    [--lambda-l LL --mu-l ML --fiber X Y Z] [--stiffness-times DIR]\n"
     "  tissue_cli forces --mesh MESH --deformed POSITIONS --model teran_muscle --mooney-rivlin A B\n"
@@ -603,7 +603,8 @@ int fit(const Arguments& args) {
   params.equilibrium.relativeTolerance = 1e-12;
   if (args.has("max-iterations")) {
     const double n = args.number("max-iterations");
-    if (n < 1 || n != std::floor(n)) throw UsageError("--max-iterations expects a positive integer");
+    if (!(n >= 1 && n <= 1e6) || n != std::floor(n))
+      throw UsageError("--max-iterations expects a whole number in [1, 1000000]");
     params.maxIterations = static_cast<int>(n);
   }
   const auto positive = [&](const char* name, double& into) {

@@ -74,22 +74,29 @@ TEST(LandmarkFitting, RecoversTheActivationsOfTrackedLandmarks) {
   tissue_trainer::TrackedLandmarks uneven = tracked;
   uneven.positions.pop_back();
 
-  const auto spinFor = [&](double seconds, const std::function<bool()>& done) {
+  // Spins for up to `seconds`, publishing the tracked landmarks at 20 Hz when `track`.
+  const auto spinFor = [&](double seconds, bool track, const std::function<bool()>& done) {
     const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
     ros::WallRate rate(20.0);
     while (ros::ok() && ros::WallTime::now() < end) {
       tracked.header.stamp = ros::Time::now();
-      pub.publish(tracked);
+      if (track) pub.publish(tracked);
       ros::spinOnce();
       if (done()) return true;
       rate.sleep();
     }
     return false;
   };
-  ASSERT_TRUE(spinFor(10.0, [&] { return pub.getNumSubscribers() > 0; })) << "no landmark_fitting";
-  pub.publish(bad);
+  ASSERT_TRUE(spinFor(10.0, false, [&] {
+    return pub.getNumSubscribers() > 0 && activationSub.getNumPublishers() > 0 &&
+           statusSub.getNumPublishers() > 0;
+  })) << "no landmark_fitting";
+  // The uneven message is dropped whole; of the other, the unknown id and the NaN.
   pub.publish(uneven);
-  ASSERT_TRUE(spinFor(60.0, [&] {
+  pub.publish(bad);
+  ASSERT_TRUE(spinFor(10.0, false, [&] { return fits > 0; })) << "no fit of the partial tracking";
+  EXPECT_EQ(status.landmarks, tracked.ids.size() - 2);
+  ASSERT_TRUE(spinFor(60.0, true, [&] {
     return status.converged && fitted.size() == 2 &&
            std::abs(fitted["lower"] - 0.6) < 1e-4 && std::abs(fitted["upper"] - 0.3) < 1e-4;
   })) << "fits " << fits << ", residual " << status.residual << " m, lower "

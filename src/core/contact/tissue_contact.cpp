@@ -362,13 +362,17 @@ const ContactResult& TissueContact::update() {
 }
 
 // ContactSettings::tissueInSeries: each penalty k_c in series with the tissue's stiffness k_t
-// at its contact point along the normal, k = k_c k_t / (k_c + k_t). k_t = sum_ij w_i w_j
-// n^T K_ij n, K = -df/dx of the tissue's models, is the stiffness of the contact point with
-// every other node held, so it is at least the point's true stiffness and k lies between the
-// felt stiffness of the quasi-static tissue and k_c. A penalty on a constrained node, or
-// where the tissue is not stiff along n (k_t <= 0), keeps k_c.
+// at its contact point along the normal, k = k_c k_t / (k_c + k_t). The point's compliance
+// along n is w^T C w with C the tissue's compliance (K^-1, K = -df/dx of the tissue models) on
+// its triangle's nodes; k_t takes 1 / sum_i w_i^2 / (n^T K_ii n) for it: (K^-1)_ii >= 1 / K_ii
+// for a positive definite K, and the cross terms of neighbouring nodes, left out, are
+// positive where pushing one node moves its neighbours along, so k_t is at least the point's
+// true stiffness and k lies between the felt stiffness of the settled tissue and k_c (a test
+// checks both). A penalty on a constrained node, or where a node's block is not positive
+// along n, keeps k_c.
 Eigen::Matrix3d TissueContact::feltStiffness(const Eigen::VectorXd& x) {
-  if (tissueStiffness_.size() == 0) tissueStiffness_ = system_.pattern.zeroMatrix();
+  if (tissueStiffness_.nonZeros() != system_.pattern.nonZeros())  // first call, or new couplings
+    tissueStiffness_ = system_.pattern.zeroMatrix();
   tissueStiffness_.coeffs().setZero();
   for (const auto& model : system_.models)
     if (model.get() != model_ && model->hasStiffness())
@@ -385,19 +389,21 @@ Eigen::Matrix3d TissueContact::feltStiffness(const Eigen::VectorXd& x) {
 }
 
 double TissueContact::tissuePointStiffness(const PenaltyContact& c) const {
-  double kt = 0.0;
+  double compliance = 0.0;
   for (int i = 0; i < 3; ++i) {
+    if (c.weights[i] == 0.0) continue;
+    const int node = c.nodes[i];
     for (int k = 0; k < 3; ++k)
-      if (system_.isConstrained[3 * c.nodes[i] + k]) return 0.0;
-    for (int j = 0; j < 3; ++j) {
-      Eigen::Matrix3d block;
-      for (int r = 0; r < 3; ++r)
-        for (int s = 0; s < 3; ++s)
-          block(r, s) = tissueStiffness_.coeff(3 * c.nodes[i] + r, 3 * c.nodes[j] + s);
-      kt += c.weights[i] * c.weights[j] * c.normal.dot(block * c.normal);
-    }
+      if (system_.isConstrained[3 * node + k]) return 0.0;
+    Eigen::Matrix3d block;
+    for (int r = 0; r < 3; ++r)
+      for (int s = 0; s < 3; ++s)
+        block(r, s) = tissueStiffness_.coeff(3 * node + r, 3 * node + s);
+    const double along = c.normal.dot(block * c.normal);
+    if (!(along > 0.0)) return 0.0;
+    compliance += c.weights[i] * c.weights[i] / along;
   }
-  return kt;
+  return compliance > 0.0 ? 1.0 / compliance : 0.0;
 }
 
 bool TissueContact::grasped(int node) const {

@@ -310,13 +310,18 @@ FitResult LandmarkFit::runImpl(const std::function<void(int, const FitIteration&
       result.reason = "step below the tolerance";
       break;
     }
-    // Halve the step until the cost decreases.
+    // Halve the step until the cost decreases; a trial whose equilibrium fails counts as one
+    // that does not, and the next starts from the accepted state again.
     bool accepted = false;
     Eigen::VectorXd trial;
+    const Eigen::VectorXd acceptedState = system_.state.x;
     double scale = 1.0, trialCost = cost;
     for (int h = 0; h <= params_.maxStepHalvings && !accepted; ++h, scale *= 0.5) {
       trial = projected(theta + scale * step);
-      if (!evaluate(trial, trialY, nullptr)) return equilibriumFailed();
+      if (!evaluate(trial, trialY, nullptr)) {
+        system_.state.x = acceptedState;
+        continue;
+      }
       stackedResidual(trialY, nullptr, trialR, nullptr);
       trialCost = 0.5 * trialR.squaredNorm();
       accepted = trialCost < cost;

@@ -118,8 +118,8 @@ int ClosedSurface::build(int first, int count) {
   return index;
 }
 
-// The nearest point of triangle t and the feature it lies on (Ericson, "Real-Time Collision
-// Detection", 2005, Sec. 5.1.5, by Voronoi regions).
+// The nearest point of triangle t and the feature it lies on ("Real-Time Collision Detection",
+// 2005, Sec. 5.1.5, by Voronoi regions).
 ClosedSurface::Nearest ClosedSurface::nearestOnTriangle(const Eigen::Vector3d& x, int t) const {
   const Triangle& tri = triangles_[t];
   const Eigen::Vector3d a = vertices_.col(tri[0]), b = vertices_.col(tri[1]), c = vertices_.col(tri[2]);

@@ -99,7 +99,8 @@ void registerCollisionModel(Registry& registry) {
   ForceModelEntry e;
   e.name = "collision";
   e.description = "penalty forces eps d n pushing nodes out of rigid bodies (planes, spheres, "
-                  "closed OBJ surfaces), d the depth (Bao, Sec. 5.7)";
+                  "closed OBJ surfaces), d the depth (\"Derivation of Quasistatics and "
+                  "Landmark Optimization for Muscles\", Sec. 5.7)";
   e.keys = {{"stiffness", "required: eps > 0 (N/m): the force is eps times the node's depth"},
             {"bodies",
              "required: a list of {plane: {point, normal (out of the body)}}, {sphere: {centre, "

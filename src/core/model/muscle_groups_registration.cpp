@@ -78,7 +78,8 @@ void registerMuscleGroupsModel(Registry& registry) {
   ForceModelEntry e;
   e.name = "muscle_groups";
   e.description = "the teran_muscle law on every element plus named muscle groups, each with "
-                  "its elements, fibres and activation; f = f_0 + sum_i a_i f_i (Bao, Eq. 4)";
+                  "its elements, fibres and activation; f = f_0 + sum_i a_i f_i (\"Derivation "
+                  "of Quasistatics and Landmark Optimization for Muscles\", Eq. 4)";
   e.keys = {{"law", "required: teran_muscle (the law with an active term)"},
             {"muscles",
              "required: a list of {name, region (all | {box: {min, max}} | {elements: [i, ...]}), "

@@ -27,7 +27,7 @@ namespace bench_adamss {
 // --- the command line ------------------------------------------------------------------------
 
 struct Options {
-  std::string out = "docs/report/adamss";
+  std::string out = std::string(TT_SOURCE_ROOT) + "/docs/report/adamss";
   bool quick = false;
   bool plot = true;                 // --no-plot: the CSV files only
   std::vector<std::string> values;  // of the experiment's own options, in the order named

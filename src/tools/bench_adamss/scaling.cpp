@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -106,6 +107,10 @@ int runScaling(const Args& args) {
     return 2;
   const std::vector<int> sizes = integerList(
       o.values[0], o.quick ? std::vector<int>{2, 3, 4} : std::vector<int>{3, 4, 5, 6, 8});
+  if (std::set<int>(sizes.begin(), sizes.end()).size() < 2) {
+    std::fprintf(stderr, "bench_adamss scaling: --sizes needs at least two different sizes for a slope\n");
+    return 2;
+  }
   const std::vector<int> threads = integerList(o.values[1], {1});
   std::vector<std::string> preconditioners =
       o.values[2].empty() ? std::vector<std::string>{"jacobi", "cholesky"}

@@ -123,7 +123,7 @@ TEST(CollisionModel, NoForceOutsideTheBodies) {
   for (int i = 0; i < mesh.numNodes(); ++i) nodes[i] = i;
   Bodies b = threeBodies();
   const CollisionModel model(mesh.numNodes(), nodes, 800.0, b.bodies, b.surfaces, false);
-  // Above the plane, outside the cube and the sphere: x in [0.012, 0.018], z > 0.004.
+  // Above the plane, outside the cube and the sphere: x in [0.012, 0.014], z > 0.004.
   std::uniform_real_distribution<double> u(0.0, 1.0);
   Eigen::VectorXd x(3 * mesh.numNodes());
   for (int n = 0; n < mesh.numNodes(); ++n)

@@ -45,8 +45,7 @@ TEST(CliFit, RecoversTheActivationsAndWritesTheFittedState) {
   fs::remove_all(out);
   const testutil::CliResult r =
       testutil::runCli("fit " + scene + " --targets " + targets + " --out " + out.string());
-  std::printf("%s", r.out.c_str());
-  ASSERT_EQ(r.exitCode, 0) << r.err;
+  ASSERT_EQ(r.exitCode, 0) << r.err << r.out;
   std::istringstream lines(r.out);
   std::map<std::string, double> activation;
   double residual = -1;

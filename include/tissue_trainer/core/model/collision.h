@@ -28,8 +28,8 @@ struct Penetration {
 
 // A closed, consistently oriented triangle surface with a bounding-volume tree, for the nearest
 // point and the inside test (the sign of (x - c) . N with N the angle-weighted pseudo-normal
-// of the nearest feature: Baerentzen and Aanaes, "Signed distance computation using the angle
-// weighted pseudonormal", 2005). Queries allocate nothing.
+// of the nearest feature: "Signed distance computation using the angle weighted pseudonormal",
+// 2005). Queries allocate nothing.
 class ClosedSurface {
  public:
   // Throws std::invalid_argument when an edge does not have exactly two triangles traversing
