@@ -542,7 +542,7 @@ void applyBoundary(const YamlEntry& spec, const fs::path& sceneDir, double frame
 }
 
 void applyLoads(const YamlEntry& spec, System& system) {
-  spec.expectMap({"gravity", "rayleigh_mass", "node_damping"});
+  spec.expectMap({"gravity", "rayleigh_mass", "node_damping", "initial_velocity"});
   if (spec.has("gravity"))
     system.models.push_back(std::make_unique<GravityModel>(system.mass, spec["gravity"].vector3()));
   if (spec.has("rayleigh_mass")) {
@@ -556,6 +556,12 @@ void applyLoads(const YamlEntry& spec, System& system) {
     const double gamma = e.number();
     if (gamma < 0.0) e.fail("expected a non-negative damping per node (N s/m)");
     system.damping.array() += gamma;
+  }
+  // "Adamss: Advanced Anisotropic Mass-Spring System", Sec. 2.4.4.4: every particle starts
+  // with v0 (the boundary's prescription then sets the constrained DOFs' own velocities).
+  if (spec.has("initial_velocity")) {
+    const Eigen::Vector3d v0 = spec["initial_velocity"].vector3();
+    for (int n = 0; n < system.numNodes(); ++n) system.state.v.segment<3>(3 * n) = v0;
   }
 }
 
