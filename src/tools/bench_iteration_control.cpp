@@ -270,6 +270,17 @@ std::ofstream openCsv(const std::string& path, const char* header) {
   return csv;
 }
 
+std::string outcome(const RunResult& r) {
+  char text[600];
+  if (r.failed)
+    std::snprintf(text, sizeof text, "FAILED at t = %.6f s: %s", r.failedAt, r.failure.c_str());
+  else if (r.stopped)
+    std::snprintf(text, sizeof text, "stopped at the CPU limit at t = %.6f s", r.failedAt);
+  else
+    std::snprintf(text, sizeof text, "ran to the end");
+  return text;
+}
+
 // Fig. 2.21: the twitch with both Jacobians.
 void twitch(const std::string& scenePath, const std::string& dir, bool quick) {
   std::ofstream csv = openCsv(dir + "/iteration_control.csv",
@@ -292,7 +303,7 @@ void twitch(const std::string& scenePath, const std::string& dir, bool quick) {
     }
     if (steps.empty()) {
       std::printf("[twitch] %-17s %s before the first step was kept\n", label,
-                  r.failed ? ("FAILED: " + r.failure).c_str() : "stopped");
+                  outcome(r).c_str());
       continue;
     }
     const auto [hMin, hMax] = std::minmax_element(steps.begin(), steps.end());
@@ -300,7 +311,7 @@ void twitch(const std::string& scenePath, const std::string& dir, bool quick) {
     std::printf("[twitch] %-17s %s, %zu steps kept, %d redone, CPU %.2f s; iterations %g..%g "
                 "(median %g), step %.3g..%.3g s (median %.3g); correlation of iterations with "
                 "active force %.3f, of step with active force %.3f; unconverged GMRES solves %d\n",
-                label, r.failed ? ("FAILED: " + r.failure).c_str() : "ran to the end",
+                label, outcome(r).c_str(),
                 force.size(), rejected, r.cpuSeconds, *nMin, *nMax, bench::median(iterations),
                 *hMin, *hMax, bench::median(steps), pearson(iterations, force),
                 pearson(steps, force), r.unconvergedLinear);
@@ -349,16 +360,6 @@ std::vector<Rung> ladders(bool quick) {
   return rungs;
 }
 
-std::string outcome(const RunResult& r) {
-  char text[600];
-  if (r.failed)
-    std::snprintf(text, sizeof text, "FAILED at t = %.6f s: %s", r.failedAt, r.failure.c_str());
-  else if (r.stopped)
-    std::snprintf(text, sizeof text, "stopped at the CPU limit at t = %.6f s", r.failedAt);
-  else
-    std::snprintf(text, sizeof text, "ran to the end");
-  return text;
-}
 
 void towardsInstability(const std::string& scenePath, const std::string& dir, bool quick) {
   std::ofstream csv = openCsv(dir + "/iteration_instability.csv",
