@@ -1,8 +1,10 @@
 // Numerical stability of every integrator x force model on stiff and extreme tissue.
 //
-//   bench_stability_sweep [--quick] [--out DIR] [--integrators a,b] [--models a,b] [--grid-only]
+//   bench_stability_sweep [--quick] [--out DIR] [--integrators a,b] [--models a,b]
+//                         [--grid-only | --extremes-only]
 // (--integrators and --models restrict the grid, not the explicit limit and the extreme cases
-// below; --grid-only skips those two.)
+// below; --grid-only skips those two; --extremes-only runs the extreme cases alone, of the
+// integrators and models named.)
 //
 // 1. The grid: a 2 cm block (4 x 4 x 4 nodes, 162 tets) clamped at its base, released from a
 //    10 % shear (u_x = 0.1 z), mass damping 1/s, no gravity; Young's modulus 1 kPa .. 1 GPa,
@@ -483,7 +485,11 @@ std::vector<Case> extremeCases() {
   return cases;
 }
 
-void sweepExtremes(bool quick, const std::string& path) {
+// The extreme cases for every stepper and model, or those of `onlyIntegrators` and
+// `onlyModels` when given (empty: all).
+void sweepExtremes(bool quick, const std::string& path,
+                   const std::vector<std::string>& onlyIntegrators,
+                   const std::vector<std::string>& onlyModels) {
   std::ofstream csv = openCsv(path);
   csv << "case,integrator,model,step,outcome,energy_growth,inverted_max,guard_recoveries,"
          "guard_halvings,guard_failures,wall_seconds,failure\n";
@@ -499,6 +505,12 @@ void sweepExtremes(bool quick, const std::string& path) {
                   {"backward_euler", 1e-2}, {"radau_iia_fixed", 1e-3}, {"abm3_fixed", 1e-4}};
   // The adaptive steppers of the Adamss chapter (frames of h, see makeAdaptiveStepper).
   if (!quick) steppers.insert(steppers.end(), {{"backward_euler_adaptive", 1e-3}, {"abm3", 1e-3}});
+  models.erase(std::remove_if(models.begin(), models.end(),
+                              [&](const std::string& m) { return !bench::selected(onlyModels, m); }),
+               models.end());
+  steppers.erase(std::remove_if(steppers.begin(), steppers.end(),
+                                [&](const auto& st) { return !bench::selected(onlyIntegrators, st.first); }),
+                 steppers.end());
   for (const Case& c : extremeCases())
     for (const auto& [integrator, h] : steppers)
       for (const std::string& model : models) {
@@ -532,7 +544,7 @@ void sweepExtremes(bool quick, const std::string& path) {
 }  // namespace tt
 
 int main(int argc, char** argv) {
-  bool quick = false, gridOnly = false;
+  bool quick = false, gridOnly = false, extremesOnly = false;
   std::string out = ".";
   std::vector<std::string> integrators, models;  // empty: those of the grid
   for (int i = 1; i < argc; ++i) {
@@ -540,12 +552,13 @@ int main(int argc, char** argv) {
     const bool hasValue = i + 1 < argc;
     if (a == "--quick") quick = true;
     else if (a == "--grid-only") gridOnly = true;
+    else if (a == "--extremes-only") extremesOnly = true;
     else if (a == "--out" && hasValue) out = argv[++i];
     else if (a == "--integrators" && hasValue) integrators = tt::bench::splitList(argv[++i]);
     else if (a == "--models" && hasValue) models = tt::bench::splitList(argv[++i]);
     else {
       std::fprintf(stderr, "usage: bench_stability_sweep [--quick] [--out DIR] "
-                           "[--integrators a,b] [--models a,b] [--grid-only]\n");
+                           "[--integrators a,b] [--models a,b] [--grid-only | --extremes-only]\n");
       return 2;
     }
   }
@@ -557,6 +570,16 @@ int main(int argc, char** argv) {
     return 1;
   }
   const double wall0 = tt::bench::wallSeconds(), cpu0 = tt::bench::cpuSeconds();
+  if (extremesOnly) {  // the extreme cases of the chosen integrators and models, nothing else
+    if (gridOnly) {
+      std::fprintf(stderr, "bench_stability_sweep: --grid-only and --extremes-only exclude each other\n");
+      return 2;
+    }
+    tt::sweepExtremes(quick, out + "/extreme_cases.csv", integrators, models);
+    std::printf("wrote %s/extreme_cases.csv in %.0f s (CPU %.0f s)\n", out.c_str(),
+                tt::bench::wallSeconds() - wall0, tt::bench::cpuSeconds() - cpu0);
+    return 0;
+  }
   tt::Grid g = tt::grid(quick);
   tt::bench::keepOnly("bench_stability_sweep", "integrator", g.integrators, integrators);
   tt::bench::keepOnly("bench_stability_sweep", "model", g.models, models);
@@ -566,7 +589,7 @@ int main(int argc, char** argv) {
     std::filesystem::remove(out + "/extreme_cases.csv", error);
   } else {
     tt::sweepCriticalStep(g, quick, out + "/critical_step.csv");
-    tt::sweepExtremes(quick, out + "/extreme_cases.csv");
+    tt::sweepExtremes(quick, out + "/extreme_cases.csv", {}, {});
   }
   std::printf("wrote %s/stability_sweep.csv%s in %.0f s (CPU %.0f s)\n", out.c_str(),
               gridOnly ? "" : ", critical_step.csv and extreme_cases.csv",
