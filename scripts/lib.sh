@@ -29,8 +29,9 @@ TT_PACKAGES=(
   python3-diagnostic-msgs python3-std-srvs
 )
 
-# The benchmark report's plots (scripts/bench, and the report check of scripts/test).
-TT_BENCH_PACKAGES=(python3-matplotlib)
+# The benchmark report's plots (scripts/bench, and the report check of scripts/test), and
+# TetGen for the unstructured cube of bench_adamss mesh_independence.
+TT_BENCH_PACKAGES=(python3-matplotlib tetgen)
 
 tt_say() { printf '[tissue_trainer] %s\n' "$*"; }
 
