@@ -3,8 +3,6 @@
 // truth, iterations, wall time and final RMS residual, as one table.
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <random>
 
 #include "tissue_trainer/core/fit/landmark_fit.h"
@@ -12,26 +10,6 @@
 #include "tissue_trainer/core/scene/scene.h"
 
 namespace {
-
-const char* const kBlock = R"(name: three_muscles
-mesh: {generator: box, nodes: [5, 5, 4], size: [0.02, 0.02, 0.015]}
-materials:
-  - young_modulus: 20
-    poisson_ratio: 0.45
-    stress_unit: kPa
-    teran_muscle: {mooney_rivlin: [6, 2], bulk: 60, peak_stress: 4}
-force_models:
-  - type: muscle_groups
-    law: teran_muscle
-    muscles:
-      - {name: lower, region: {box: {min: [-1, -1, -1], max: [1, 1, 0.005]}}, fibres: {direction: [1, 0, 0]}}
-      - {name: middle, region: {box: {min: [-1, -1, 0.005], max: [1, 1, 0.01]}}, fibres: {direction: [0, 1, 0]}}
-      - {name: upper, region: {box: {min: [-1, -1, 0.01], max: [1, 1, 1]}}, fibres: {direction: [1, 1, 0]}}
-integrator: {type: quasistatic}
-boundary:
-  fixed:
-    - {box: {min: [-1, -1, -0.001], max: [1, 1, 0.001]}}
-)";
 
 void setActivations(tt::System& s, const double* a) {
   const char* names[3] = {"lower", "middle", "upper"};
@@ -44,8 +22,7 @@ void setActivations(tt::System& s, const double* a) {
 }  // namespace
 
 int main() {
-  const std::filesystem::path path = std::filesystem::temp_directory_path() / "bench_fitting.yaml";
-  std::ofstream(path) << kBlock;
+  const std::string path = std::string(TT_SOURCE_ROOT) + "/config/scenes/three_muscle_block.yaml";
   const double truth[3] = {0.3, 0.6, 0.45};
   tt::EquilibriumParams eq;
   eq.preconditioner = tt::EquilibriumParams::Preconditioning::kCholesky;
@@ -55,7 +32,7 @@ int main() {
   std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   for (int stride : {4, 1})
   for (double noise : {0.0, 1e-4, 1e-3}) {
-    tt::Scene scene = tt::loadScene(path.string());
+    tt::Scene scene = tt::loadScene(path);
     tt::System& s = scene.system;
     const Eigen::VectorXd rest = s.state.x;
     setActivations(s, truth);

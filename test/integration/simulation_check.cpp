@@ -140,28 +140,6 @@ struct Probe {
   }
 };
 
-// Two muscle layers of a 2 x 2 x 1 cm block (docs/muscles.md), fibres along x below and y above,
-// solved to equilibrium every frame, both at rest until /tissue/activation says otherwise.
-const char* const kMuscleBlock = R"(name: two_layers
-mesh: {generator: box, nodes: [5, 5, 3], size: [0.02, 0.02, 0.01], translate: [0.2, 0.2, 0.2]}
-materials:
-  - {young_modulus: 20, poisson_ratio: 0.45, stress_unit: kPa,
-     teran_muscle: {mooney_rivlin: [6, 2], bulk: 60, peak_stress: 4}}
-force_models:
-  - type: muscle_groups
-    law: teran_muscle
-    muscles:
-      - {name: lower, region: {box: {min: [-1, -1, -1], max: [1, 1, 0.205]}}, fibres: {direction: [1, 0, 0]}}
-      - {name: upper, region: {box: {min: [-1, -1, 0.205], max: [1, 1, 1]}}, fibres: {direction: [0, 1, 0]}}
-integrator: {type: quasistatic}
-boundary:
-  fixed:
-    - {box: {min: [0.199, 0.199, 0.199], max: [0.201, 0.201, 0.201]}}
-    - {box: {min: [0.219, 0.199, 0.199], max: [0.221, 0.201, 0.201]}, axes: yz}
-    - {box: {min: [0.199, 0.219, 0.199], max: [0.201, 0.221, 0.201]}, axes: z}
-run: {frame_time: 0.01, duration: 1000}
-)";
-
 double largestChange(const std::vector<float>& a, const std::vector<float>& b) {
   if (a.size() != b.size() || a.empty()) return INFINITY;
   double largest = 0.0;
@@ -301,8 +279,8 @@ TEST(Simulation, PalpationLoadSceneAndReset) {
 TEST(Simulation, MuscleActivationsByTopic) {
   Probe probe;
   ros::Publisher activation = probe.nh.advertise<sensor_msgs::JointState>("tissue/activation", 10);
-  const std::string scene = "/tmp/tt_simulation_check_muscles.yaml";
-  std::ofstream(scene) << kMuscleBlock;
+  std::string scene;  // test/integration/muscle_block.yaml: two layers, both at rest
+  ASSERT_TRUE(ros::param::get("~muscle_block_scene", scene));
   tissue_trainer::LoadScene load;
   load.request.scene_file = scene;
   ASSERT_TRUE(ros::service::waitForService("simulation/load_scene", 5000));

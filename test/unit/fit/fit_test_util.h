@@ -1,6 +1,6 @@
 #pragma once
-// Shared by the landmark-fit tests: a block of three muscle layers with crossed fibres, fixed
-// on its bottom face, and node landmarks taken from one of its equilibria.
+// Shared by the landmark-fit tests: the block of three muscle layers with crossed fibres of
+// config/scenes/three_muscle_block.yaml, and node landmarks taken from one of its equilibria.
 #include <string>
 #include <vector>
 
@@ -12,37 +12,13 @@
 namespace tt {
 namespace testutil {
 
-inline const char* threeMuscleBlock() {
-  return R"(name: three_muscles
-mesh: {generator: box, nodes: [5, 5, 4], size: [0.02, 0.02, 0.015]}
-materials:
-  - young_modulus: 20
-    poisson_ratio: 0.45
-    stress_unit: kPa
-    teran_muscle: {mooney_rivlin: [6, 2], bulk: 60, peak_stress: 4}
-force_models:
-  - type: muscle_groups
-    law: teran_muscle
-    muscles:
-      - name: lower
-        region: {box: {min: [-1, -1, -1], max: [1, 1, 0.005]}}
-        fibres: {direction: [1, 0, 0]}
-      - name: middle
-        region: {box: {min: [-1, -1, 0.005], max: [1, 1, 0.01]}}
-        fibres: {direction: [0, 1, 0]}
-      - name: upper
-        region: {box: {min: [-1, -1, 0.01], max: [1, 1, 1]}}
-        fibres: {direction: [1, 1, 0]}
-integrator: {type: quasistatic}
-boundary:
-  fixed:
-    - {box: {min: [-1, -1, -0.001], max: [1, 1, 0.001]}}
-run: {frame_time: 1, duration: 1}
-)";
+// config/scenes/three_muscle_block.yaml
+inline std::string threeMuscleBlockPath() {
+  return std::string(TT_SOURCE_DIR) + "/config/scenes/three_muscle_block.yaml";
 }
 
 inline Scene loadThreeMuscleBlock() {
-  return loadScene(writeScene("three_muscles.yaml", threeMuscleBlock()));
+  return loadScene(threeMuscleBlockPath());
 }
 
 inline void setActivations(System& s, const std::vector<double>& a) {

@@ -80,6 +80,26 @@ TEST(LandmarkFitJaw, JawAndCraniumJacobiansMatchCentralDifferencesOfTheEquilibri
   }
 }
 
+// Back to zero activations at the rest shape, with the tight fit both recoveries use.
+FitParams restartedFit(System& s, const Eigen::VectorXd& rest) {
+  testutil::setActivations(s, {0, 0, 0});
+  s.state.x = rest;
+  FitParams params;
+  params.equilibrium = testutil::tightEquilibrium();
+  params.residualTolerance = 1e-12;
+  return params;
+}
+
+// Runs the fit; it converges and finds the activations `truth`.
+void expectActivationsRecovered(LandmarkFit& fit, const std::vector<double>& truth) {
+  const FitResult r = fit.run();
+  std::printf("%zu iterations, residual %.3e m (%s)\n", r.iterations.size(), r.residual,
+              stopName(r.stop));
+  EXPECT_TRUE(r.converged()) << r.reason;
+  const Eigen::VectorXd p = fit.parameters();
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(p[i], truth[i], 1e-6) << i;
+}
+
 TEST(LandmarkFitJaw, RecoversAKnownSmallJawRotationAndTranslation) {
   Scene scene = testutil::loadThreeMuscleBlock();
   System& s = scene.system;
@@ -93,20 +113,11 @@ TEST(LandmarkFitJaw, RecoversAKnownSmallJawRotationAndTranslation) {
   ASSERT_TRUE(solveEquilibrium(s, testutil::tightEquilibrium()).converged());
   const std::vector<Landmark> landmarks = allNodeLandmarks(s, s.state.x, 3);
 
-  testutil::setActivations(s, {0, 0, 0});
-  s.state.x = rest;
-  FitParams params;
-  params.equilibrium = testutil::tightEquilibrium();
+  FitParams params = restartedFit(s, rest);
   params.fitJaw = true;
   params.jawNodes = jaw;
-  params.residualTolerance = 1e-12;
   LandmarkFit fit(s, landmarks, params);
-  const FitResult r = fit.run();
-  std::printf("%zu iterations, residual %.3e m (%s)\n", r.iterations.size(), r.residual,
-              stopName(r.stop));
-  EXPECT_TRUE(r.converged()) << r.reason;
-  const Eigen::VectorXd p = fit.parameters();
-  for (int i = 0; i < 3; ++i) EXPECT_NEAR(p[i], truth[i], 1e-6) << i;
+  expectActivationsRecovered(fit, truth);
   EXPECT_LT((fit.jawMatrix() - R).cwiseAbs().maxCoeff(), 1e-6);
   EXPECT_LT((fit.jawTranslation() - t).cwiseAbs().maxCoeff(), 1e-8);
 }
@@ -123,19 +134,10 @@ TEST(LandmarkFitJaw, RecoversAKnownCraniumRotationAndTranslation) {
   std::vector<Landmark> landmarks = allNodeLandmarks(s, s.state.x, 3);
   for (Landmark& l : landmarks) l.target = R * l.target + t;
 
-  testutil::setActivations(s, {0, 0, 0});
-  s.state.x = rest;
-  FitParams params;
-  params.equilibrium = testutil::tightEquilibrium();
+  FitParams params = restartedFit(s, rest);
   params.fitCranium = true;
-  params.residualTolerance = 1e-12;
   LandmarkFit fit(s, landmarks, params);
-  const FitResult r = fit.run();
-  std::printf("%zu iterations, residual %.3e m (%s)\n", r.iterations.size(), r.residual,
-              stopName(r.stop));
-  EXPECT_TRUE(r.converged()) << r.reason;
-  const Eigen::VectorXd p = fit.parameters();
-  for (int i = 0; i < 3; ++i) EXPECT_NEAR(p[i], truth[i], 1e-6) << i;
+  expectActivationsRecovered(fit, truth);
   EXPECT_LT((fit.craniumMatrix() - R).cwiseAbs().maxCoeff(), 1e-6);
   EXPECT_LT((fit.craniumTranslation() - t).cwiseAbs().maxCoeff(), 1e-8);
   // The fitted state carries the post-transform.

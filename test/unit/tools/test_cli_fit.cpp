@@ -39,7 +39,7 @@ std::string writeTargets(const std::string& scenePath) {
 }
 
 TEST(CliFit, RecoversTheActivationsAndWritesTheFittedState) {
-  const std::string scene = testutil::writeScene("three_muscles.yaml", testutil::threeMuscleBlock());
+  const std::string scene = testutil::threeMuscleBlockPath();
   const std::string targets = writeTargets(scene);
   const fs::path out = fs::temp_directory_path() / "tt_cli_fit_out";
   fs::remove_all(out);
@@ -71,7 +71,7 @@ TEST(CliFit, RecoversTheActivationsAndWritesTheFittedState) {
 }
 
 TEST(CliFit, StopsWithExitCode4AndTheReasonWhenNotConverged) {
-  const std::string scene = testutil::writeScene("three_muscles.yaml", testutil::threeMuscleBlock());
+  const std::string scene = testutil::threeMuscleBlockPath();
   const std::string targets = writeTargets(scene);
   const testutil::CliResult r =
       testutil::runCli("fit " + scene + " --targets " + targets + " --max-iterations 1");
@@ -81,7 +81,7 @@ TEST(CliFit, StopsWithExitCode4AndTheReasonWhenNotConverged) {
 }
 
 TEST(CliFit, AMalformedTargetsFileIsOneErrorLine) {
-  const std::string scene = testutil::writeScene("three_muscles.yaml", testutil::threeMuscleBlock());
+  const std::string scene = testutil::threeMuscleBlockPath();
   const std::string targets = testutil::writeScene("bad_targets.txt", "node 0 0 0 0\nnode 1 0 0\n");
   const testutil::CliResult r = testutil::runCli("fit " + scene + " --targets " + targets);
   EXPECT_EQ(r.exitCode, 2);
