@@ -38,10 +38,11 @@ inline EquilibriumParams tightEquilibrium() {
 }
 
 // Node landmarks at every `stride`-th free node of the current state x.
-inline std::vector<Landmark> nodeLandmarks(const System& s, const Eigen::VectorXd& x, int stride) {
+inline std::vector<Landmark> nodeLandmarks(const System& s, const Eigen::VectorXd& x, int stride,
+                                           bool includeConstrained = false) {
   std::vector<Landmark> out;
   for (int n = 0; n < s.numNodes(); n += stride) {
-    if (s.isConstrained[3 * n]) continue;
+    if (s.isConstrained[3 * n] && !includeConstrained) continue;
     Landmark l;
     l.nodes = {n, n, n, n};
     l.weights = Eigen::Vector4d(1, 0, 0, 0);

@@ -118,6 +118,7 @@ TEST(LandmarkFit, LevenbergMarquardtDampingAlsoRecoversTheActivations) {
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(damped.fitted[i], truth[i], 1e-6) << i;
   // The damping shortens the first step.
   ASSERT_FALSE(damped.result.iterations.empty());
+  ASSERT_FALSE(plain.result.iterations.empty());
   EXPECT_LT(damped.result.iterations[0].step, plain.result.iterations[0].step);
   std::printf("iterations: %zu plain, %zu damped (lambda 0.1)\n", plain.result.iterations.size(),
               damped.result.iterations.size());

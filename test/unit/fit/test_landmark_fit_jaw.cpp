@@ -21,19 +21,6 @@ std::vector<int> jawNodes(const System& s) {
   return out;
 }
 
-// Every `stride`-th node, constrained or not.
-std::vector<Landmark> allNodeLandmarks(const System& s, const Eigen::VectorXd& x, int stride) {
-  std::vector<Landmark> out;
-  for (int n = 0; n < s.numNodes(); n += stride) {
-    Landmark l;
-    l.nodes = {n, n, n, n};
-    l.weights = Eigen::Vector4d(1, 0, 0, 0);
-    l.target = x.segment<3>(3 * n);
-    out.push_back(l);
-  }
-  return out;
-}
-
 FitParams jawAndCranium(const System& s) {
   FitParams p;
   p.equilibrium = testutil::tightEquilibrium();
@@ -46,7 +33,7 @@ FitParams jawAndCranium(const System& s) {
 TEST(LandmarkFitJaw, JawAndCraniumJacobiansMatchCentralDifferencesOfTheEquilibrium) {
   Scene scene = testutil::loadThreeMuscleBlock();
   System& s = scene.system;
-  LandmarkFit fit(s, allNodeLandmarks(s, s.state.x, 1), jawAndCranium(s));
+  LandmarkFit fit(s, testutil::nodeLandmarks(s, s.state.x, 1, true), jawAndCranium(s));
   ASSERT_EQ(fit.parameterCount(), 27);
   // A non-rigid, non-identity point: activations inside, jaw and cranium matrices off identity.
   Eigen::VectorXd theta = fit.parameters();
@@ -54,7 +41,7 @@ TEST(LandmarkFitJaw, JawAndCraniumJacobiansMatchCentralDifferencesOfTheEquilibri
   const double jaw[12] = {1.01, 0.02, -0.01, -0.015, 0.99, 0.005, 0.01, 0.0, 1.0, 1e-4, -2e-4, 1e-4};
   const double cranium[12] = {0.98, 0.1, 0.0, -0.1, 1.0, 0.02, 0.0, -0.03, 1.02, 0.01, 0.0, -0.02};
   for (int k = 0; k < 12; ++k) theta[3 + k] = jaw[k], theta[15 + k] = cranium[k];
-  Eigen::VectorXd y, y0, yp, ym;
+  Eigen::VectorXd y, yp, ym;
   Eigen::MatrixXd J;
   ASSERT_TRUE(fit.evaluate(theta, y, &J));
   for (int k = 3; k < 27; ++k) {
@@ -66,7 +53,7 @@ TEST(LandmarkFitJaw, JawAndCraniumJacobiansMatchCentralDifferencesOfTheEquilibri
     t[k] -= 2 * h;
     ASSERT_TRUE(fit.evaluate(t, ym));
     const Eigen::VectorXd fd = (yp - ym) / (2 * h);
-    if (k >= 3 && k < 12 && (k - 3) % 3 == 2) {
+    if (k < 12 && (k - 3) % 3 == 2) {
       // M_j,i2 multiplies the rest z of the jaw nodes, which is 0: no effect, exactly.
       EXPECT_EQ(fd.norm(), 0.0) << k;
       EXPECT_EQ(J.col(k).norm(), 0.0) << k;
@@ -111,7 +98,7 @@ TEST(LandmarkFitJaw, RecoversAKnownSmallJawRotationAndTranslation) {
   testutil::setActivations(s, truth);
   for (int n : jaw) s.state.x.segment<3>(3 * n) = R * rest.segment<3>(3 * n) + t;
   ASSERT_TRUE(solveEquilibrium(s, testutil::tightEquilibrium()).converged());
-  const std::vector<Landmark> landmarks = allNodeLandmarks(s, s.state.x, 3);
+  const std::vector<Landmark> landmarks = testutil::nodeLandmarks(s, s.state.x, 3, true);
 
   FitParams params = restartedFit(s, rest);
   params.fitJaw = true;
@@ -131,7 +118,7 @@ TEST(LandmarkFitJaw, RecoversAKnownCraniumRotationAndTranslation) {
   const std::vector<double> truth = {0.3, 0.5, 0.2};
   testutil::setActivations(s, truth);
   ASSERT_TRUE(solveEquilibrium(s, testutil::tightEquilibrium()).converged());
-  std::vector<Landmark> landmarks = allNodeLandmarks(s, s.state.x, 3);
+  std::vector<Landmark> landmarks = testutil::nodeLandmarks(s, s.state.x, 3, true);
   for (Landmark& l : landmarks) l.target = R * l.target + t;
 
   FitParams params = restartedFit(s, rest);

@@ -18,15 +18,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Writes the scene and a targets file of its equilibrium at the activations (0.3, 0.6, 0.45):
+// Writes a targets file of its equilibrium at the activations (0.3, 0.6, 0.45):
 // every 4th free node and one tet point.
 std::string writeTargets(const std::string& scenePath) {
   Scene scene = loadScene(scenePath);
   System& s = scene.system;
   testutil::setActivations(s, {0.3, 0.6, 0.45});
   EXPECT_TRUE(solveEquilibrium(s, testutil::tightEquilibrium()).converged());
-  const fs::path path = fs::temp_directory_path() / "tt_scene_tests" / "fit_targets.txt";
-  std::ofstream out(path);
+  std::ostringstream out;
   out.precision(17);
   out << "# landmarks of the block at (0.3, 0.6, 0.45)\n\n";
   for (const Landmark& l : testutil::nodeLandmarks(s, s.state.x, 4))
@@ -35,7 +34,7 @@ std::string writeTargets(const std::string& scenePath) {
   const Eigen::Vector3d p = 0.25 * (s.state.x.segment<3>(3 * t[0]) + s.state.x.segment<3>(3 * t[1]) +
                                     s.state.x.segment<3>(3 * t[2]) + s.state.x.segment<3>(3 * t[3]));
   out << "tet " << s.mesh.numTets() - 1 << " 0.25 0.25 0.25 0.25 " << p.transpose() << "  # centroid\n";
-  return path.string();
+  return testutil::writeScene("fit_targets.txt", out.str());
 }
 
 TEST(CliFit, RecoversTheActivationsAndWritesTheFittedState) {
