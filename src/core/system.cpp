@@ -96,7 +96,7 @@ bool System::hasStiffness() const {
 }
 
 void System::assembleStiffness(const Eigen::VectorXd& x, SparseMatrix& K, double scale) const {
-  if (K.nonZeros() == 0) K = pattern.zeroMatrix();
+  if (K.nonZeros() != pattern.nonZeros()) K = pattern.zeroMatrix();  // first call, new couplings
   std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);
   for (const auto& model : models)
     if (model->hasStiffness()) model->addStiffness(x, scale, pattern, K);

@@ -11,19 +11,15 @@ Eigen::Vector3d pointOf(const PenaltyContact& c, const Eigen::VectorXd& x) {
   return p;
 }
 
-double depthOf(const PenaltyContact& c, const Eigen::VectorXd& x) {
-  return (pointOf(c, x) - c.toolPoint).dot(c.normal);
-}
-
 }  // namespace
 
 double ContactForceModel::depth(const PenaltyContact& c, const Eigen::VectorXd& x) {
-  return depthOf(c, x);
+  return (pointOf(c, x) - c.toolPoint).dot(c.normal);
 }
 
 double ContactForceModel::normalForce(const PenaltyContact& c, const Eigen::VectorXd& x,
                                       const Eigen::VectorXd& v) const {
-  const double depth = depthOf(c, x);
+  const double depth = depth(c, x);
   if (!(depth > 0.0)) return 0.0;
   double fn = c.stiffness * depth;
   if (c.damping > 0.0 && v.size() == x.size()) {
@@ -49,7 +45,7 @@ double ContactForceModel::addForce(const Eigen::VectorXd& x, const Eigen::Vector
 void ContactForceModel::addStiffness(const Eigen::VectorXd& x, double scale,
                                      const SparsePattern& pattern, SparseMatrix& K) const {
   for (const PenaltyContact& c : penalties) {
-    if (!(depthOf(c, x) > 0.0)) continue;
+    if (!(depth(c, x) > 0.0)) continue;
     const Eigen::Matrix3d nn = c.normal * c.normal.transpose();
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b)
@@ -72,7 +68,7 @@ Eigen::Vector3d ContactForceModel::toolForce(const Eigen::VectorXd& x,
 Eigen::Matrix3d ContactForceModel::toolStiffness(const Eigen::VectorXd& x) const {
   Eigen::Matrix3d K = Eigen::Matrix3d::Zero();
   for (const PenaltyContact& c : penalties)
-    if (depthOf(c, x) > 0.0) K += c.stiffness * c.normal * c.normal.transpose();
+    if (depth(c, x) > 0.0) K += c.stiffness * c.normal * c.normal.transpose();
   for (const GraspSpring& s : springs) K += s.stiffness * Eigen::Matrix3d::Identity();
   return K;
 }

@@ -371,12 +371,8 @@ const ContactResult& TissueContact::update() {
 // checks both). A penalty on a constrained node, or where a node's block is not positive
 // along n, keeps k_c.
 Eigen::Matrix3d TissueContact::feltStiffness(const Eigen::VectorXd& x) {
-  if (tissueStiffness_.nonZeros() != system_.pattern.nonZeros())  // first call, or new couplings
-    tissueStiffness_ = system_.pattern.zeroMatrix();
-  tissueStiffness_.coeffs().setZero();
-  for (const auto& model : system_.models)
-    if (model.get() != model_ && model->hasStiffness())
-      model->addStiffness(x, -1.0, system_.pattern, tissueStiffness_);
+  system_.assembleStiffness(x, tissueStiffness_, -1.0);
+  model_->addStiffness(x, 1.0, system_.pattern, tissueStiffness_);  // the tissue's part alone
   Eigen::Matrix3d K = Eigen::Matrix3d::Zero();
   for (const PenaltyContact& c : model_->penalties) {
     if (!(ContactForceModel::depth(c, x) > 0.0)) continue;
