@@ -19,9 +19,9 @@ double ContactForceModel::depth(const PenaltyContact& c, const Eigen::VectorXd& 
 
 double ContactForceModel::normalForce(const PenaltyContact& c, const Eigen::VectorXd& x,
                                       const Eigen::VectorXd& v) const {
-  const double depth = depth(c, x);
-  if (!(depth > 0.0)) return 0.0;
-  double fn = c.stiffness * depth;
+  const double d = depth(c, x);
+  if (!(d > 0.0)) return 0.0;
+  double fn = c.stiffness * d;
   if (c.damping > 0.0 && v.size() == x.size()) {
     // Approach speed (positive when tool and tissue move toward each other).
     const double approach = (pointOf(c, v) - toolVelocity).dot(c.normal);
