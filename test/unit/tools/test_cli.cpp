@@ -176,8 +176,9 @@ TEST(Cli, RunStopsWhenTheKineticEnergyFallsBelowTheThreshold) {
 }
 
 // SIGINT (and SIGTERM) end the run after the frame in progress: the outputs are written, the
-// reason printed and the exit code is 5. The signal comes from `timeout` once the run is under
-// way; the scene would run for hours otherwise.
+// reason printed and the exit code is 5. The signal is sent once the run is under way (its CSV
+// log has lines; a freshly built binary can take a while to start); the scene would run for
+// hours otherwise.
 TEST(Cli, RunEndsCleanlyOnAnInterrupt) {
   const fs::path dir = fs::temp_directory_path() / "tt_cli_interrupt";
   fs::remove_all(dir);
@@ -187,9 +188,15 @@ TEST(Cli, RunEndsCleanlyOnAnInterrupt) {
                                         "output: {vtu_every: 100000, csv: true}\n";
   for (const char* signal : {"INT", "TERM"}) {
     const fs::path out = dir / signal;
+    // sh runs the command given after it in the background, waits (at most 60 s) for its log,
+    // signals it and returns its exit code.
+    const std::string signalWhenRunning =
+        "sh -c 'log=" + (out / "settle.csv").string() +
+        "; \"$@\" & pid=$!; i=0; while [ ! -s $log ] && [ $i -lt 1200 ]; do sleep 0.05; "
+        "i=$((i+1)); done; kill -" + signal + " $pid; wait $pid' sh ";
     const Result r = runCli("run " + (dir / "settle.yaml").string() + " --out " + out.string() +
                                 " --threads 1",
-                            std::string("timeout --preserve-status -s ") + signal + " 1 ");
+                            signalWhenRunning);
     EXPECT_EQ(r.exitCode, 5) << signal << ": " << r.err << r.out;
     EXPECT_NE(r.out.find(std::string("interrupted by SIG") + signal), std::string::npos) << r.out;
     EXPECT_NE(r.out.find(" stop=interrupt\n"), std::string::npos) << r.out;
