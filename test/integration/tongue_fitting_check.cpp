@@ -45,7 +45,7 @@ struct Target {
   double solveSeconds = 0.0;
 };
 
-// 0.2, 0.25, 0.3, 0.2, ... by muscle order: below the palate, with every muscle active.
+// 0.2, 0.25, 0.3, 0.2, ... by muscle order: every muscle active, none near its bounds.
 double knownActivation(int k) { return 0.2 + 0.05 * (k % 3); }
 
 Target solveTarget() {
