@@ -182,7 +182,7 @@ TEST(TongueFitting, TrackedLandmarksDriveTheSimulatedTongue) {
   })) << "no landmark_fitting or simulation";
 
   const ros::WallTime tracking = ros::WallTime::now();
-  const bool activationsFitted = spinFor(120.0, [&] {
+  const bool activationsFitted = spinFor(150.0, [&] {
     return fit.converged && fit.residual < kResidualTolerance &&
            activationError() < kActivationTolerance;
   });
