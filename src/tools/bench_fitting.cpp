@@ -6,6 +6,7 @@
 //           from the EMA-like markers of config/scenes/tongue_ema_landmarks.txt.
 // Usage: bench_fitting [--only block|tongue] [--quick] [--out DIR]
 //        bench_fitting --tongue-targets   (prints the markers' targets at the tongue's truth)
+//        bench_fitting --tongue-sensitivity   (marker motion per unit activation there)
 // --quick: the tongue without noise only. --out DIR writes DIR/fitting_block.csv and
 // DIR/fitting_tongue.csv besides the Markdown tables on stdout.
 #include <chrono>
@@ -14,6 +15,8 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+
+#include <Eigen/SVD>
 
 #include "bench_fitting_tongue.h"
 #include "tissue_trainer/core/fit/landmark_fit.h"
@@ -108,11 +111,11 @@ std::string tongueLandmarksPath() { return kRoot + "/config/scenes/tongue_ema_la
 int tongue(std::FILE* csv, bool quick) {
   tt::Scene scene = tt::loadScene(kRoot + "/config/scenes/tongue_muscles.yaml");
   const std::vector<tt::Landmark> landmarks = tt::readLandmarks(tongueLandmarksPath(), scene.system.mesh);
-  std::printf("| truth | noise (mm) | superior_longitudinal | transverse | genioglossus | max activation error | jaw angle (deg) | jaw node error (mm) | iterations | stop | RMS residual (mm) | time (s) |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("| truth | noise (mm) | superior_longitudinal | transverse | genioglossus | max activation error | jaw angle (deg) | jaw node error (mm) | iterations | stop | RMS residual (mm) | time (s) | CPU (s) |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   if (csv)
     std::fprintf(csv, "truth,noise_mm,superior_longitudinal,transverse,genioglossus,max_activation_error,"
-                      "jaw_angle_deg,jaw_matrix_error,jaw_node_error_mm,iterations,stop,residual_mm,time_s\n");
+                      "jaw_angle_deg,jaw_matrix_error,jaw_node_error_mm,iterations,stop,residual_mm,time_s,cpu_s\n");
   for (const tt::bench::TongueTruth& truth : tongueTruths()) {
     const std::vector<Eigen::Vector3d> y = tt::bench::tongueTruthLandmarks(scene, landmarks, truth);
     const char* label = truth.jaw ? "activations + jaw" : "activations";
@@ -125,16 +128,17 @@ int tongue(std::FILE* csv, bool quick) {
         std::snprintf(jawAngle, sizeof jawAngle, "%.4f", row.jawAngleDeg);
         std::snprintf(jawError, sizeof jawError, "%.2e", 1e3 * row.jawNodeError);
       }
-      std::printf("| %s | %g | %.6f | %.6f | %.6f | %.2e | %s | %s | %d | %s | %.3e | %.1f |\n", label,
-                  1e3 * noise, row.activations[0], row.activations[1], row.activations[2], error,
-                  jawAngle, jawError, row.iterations, row.stop, 1e3 * row.residual, row.seconds);
+      std::printf("| %s | %g | %.6f | %.6f | %.6f | %.2e | %s | %s | %d | %s | %.3e | %.1f | %.1f |\n",
+                  label, 1e3 * noise, row.activations[0], row.activations[1], row.activations[2],
+                  error, jawAngle, jawError, row.iterations, row.stop, 1e3 * row.residual,
+                  row.seconds, row.cpuSeconds);
       std::fflush(stdout);
       if (csv)
-        std::fprintf(csv, "%s,%g,%.9f,%.9f,%.9f,%.3e,%.6f,%.3e,%.3e,%d,%s,%.6e,%.2f\n", label,
+        std::fprintf(csv, "%s,%g,%.9f,%.9f,%.9f,%.3e,%.6f,%.3e,%.3e,%d,%s,%.6e,%.2f,%.2f\n", label,
                      1e3 * noise, row.activations[0], row.activations[1], row.activations[2], error,
                      truth.jaw ? row.jawAngleDeg : 0.0, row.jawMatrixError,
                      truth.jaw ? 1e3 * row.jawNodeError : 0.0, row.iterations, row.stop,
-                     1e3 * row.residual, row.seconds);
+                     1e3 * row.residual, row.seconds, row.cpuSeconds);
     }
   }
   const tt::bench::TongueTruth jaw = tongueTruths()[1];
@@ -159,20 +163,43 @@ int printTongueTargets() {
   return 0;
 }
 
+// How far the markers move per unit of each activation at the activations-only truth: the RMS
+// over the markers of the columns of dy/da (Eq. 6), in mm. Noise of that size per coordinate
+// makes the activation uncertain by about one unit over sqrt(3 L) coordinates.
+int printTongueSensitivity() {
+  tt::Scene scene = tt::loadScene(kRoot + "/config/scenes/tongue_muscles.yaml");
+  const std::vector<tt::Landmark> landmarks = tt::readLandmarks(tongueLandmarksPath(), scene.system.mesh);
+  const tt::bench::TongueTruth truth = tongueTruths()[0];
+  tt::bench::tongueTruthLandmarks(scene, landmarks, truth);
+  tt::FitParams params;
+  params.equilibrium = tt::bench::tongueEquilibrium();
+  tt::LandmarkFit fit(scene.system, landmarks, params);
+  Eigen::VectorXd y;
+  Eigen::MatrixXd J;
+  if (!fit.evaluate(truth.activations, y, &J)) throw std::runtime_error(fit.failure());
+  const double perMarker = 1.0 / std::sqrt(static_cast<double>(landmarks.size()));
+  for (int i = 0; i < 3; ++i)
+    std::printf("%s: RMS marker motion per unit activation %.3f mm\n", tt::bench::kTongueMuscles[i],
+                1e3 * perMarker * J.col(i).norm());
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(J);
+  std::printf("singular values of dy/da (mm): %.4f %.4f %.4f\n", 1e3 * svd.singularValues()[0],
+              1e3 * svd.singularValues()[1], 1e3 * svd.singularValues()[2]);
+  return 0;
+}
+
 int usage(const char* what) {
   std::fprintf(stderr, "bench_fitting: %s (usage: bench_fitting [--only block|tongue] [--quick] "
-                       "[--out DIR] | --tongue-targets)\n", what);
+                       "[--out DIR] | --tongue-targets | --tongue-sensitivity)\n", what);
   return 2;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   std::string only, out;
   bool quick = false;
   for (int k = 1; k < argc; ++k) {
     const std::string arg = argv[k];
     if (arg == "--tongue-targets") return printTongueTargets();
+    if (arg == "--tongue-sensitivity") return printTongueSensitivity();
     if (arg == "--quick") {
       quick = true;
     } else if ((arg == "--only" || arg == "--out") && k + 1 < argc) {
@@ -188,22 +215,28 @@ int main(int argc, char** argv) {
     std::filesystem::create_directories(out);
     return std::fopen((out + "/" + name).c_str(), "w");
   };
+  if (only.empty() || only == "block") {
+    std::FILE* csv = open("fitting_block.csv");
+    const int status = block(csv);
+    if (csv) std::fclose(csv);
+    if (status != 0) return status;
+  }
+  if (only.empty() || only == "tongue") {
+    std::FILE* csv = open("fitting_tongue.csv");
+    const int status = tongue(csv, quick);
+    if (csv) std::fclose(csv);
+    if (status != 0) return status;
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
   try {
-    if (only.empty() || only == "block") {
-      std::FILE* csv = open("fitting_block.csv");
-      const int status = block(csv);
-      if (csv) std::fclose(csv);
-      if (status != 0) return status;
-    }
-    if (only.empty() || only == "tongue") {
-      std::FILE* csv = open("fitting_tongue.csv");
-      const int status = tongue(csv, quick);
-      if (csv) std::fclose(csv);
-      if (status != 0) return status;
-    }
+    return run(argc, argv);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_fitting: %s\n", e.what());
     return 3;
   }
-  return 0;
 }

@@ -4,13 +4,13 @@
 // config/scenes/tongue_ema_landmarks.txt as landmarks, target noise 0, 0.1 and 1 mm, fitted
 // from zero activations (and the identity jaw).
 #include <Eigen/Geometry>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "bench_support.h"
 #include "tissue_trainer/core/fit/landmark_fit.h"
 #include "tissue_trainer/core/model/activated_force_model.h"
 #include "tissue_trainer/core/scene/scene.h"
@@ -44,6 +44,7 @@ struct TongueRow {
   const char* stop = "";
   double residual = 0.0;          // m, RMS landmark distance
   double seconds = 0.0;           // wall time of the fit
+  double cpuSeconds = 0.0;        // process CPU time of the fit
 };
 
 inline void setTongueActivations(System& s, const Eigen::Vector3d& a) {
@@ -106,10 +107,11 @@ inline TongueRow fitTongue(Scene& scene, std::vector<Landmark> landmarks,
   params.fitJaw = truth.jaw;
   if (truth.jaw) params.jawNodes = scene.jawNodes;
   LandmarkFit fit(s, landmarks, params);
-  const auto start = std::chrono::steady_clock::now();
+  const double wall0 = wallSeconds(), cpu0 = cpuSeconds();
   const FitResult r = fit.run();
   TongueRow row;
-  row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  row.seconds = wallSeconds() - wall0;
+  row.cpuSeconds = cpuSeconds() - cpu0;
   row.noise = noise;
   row.activations = fit.parameters().head<3>();
   const Eigen::Matrix3d M = fit.jawMatrix();
