@@ -3,6 +3,8 @@
 // targets are the scene's equilibrium at known activations, and a fit from zero recovers them.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include "fit_test_util.h"
 
 namespace tt {
@@ -40,7 +42,7 @@ TEST(LandmarkFitTongue, RecoversTheActivationsFromNoiseFreeEmaMarkers) {
   for (Landmark& l : landmarks) {
     const Eigen::Vector3d y = landmarkPosition(l, s.state.x);
     EXPECT_LT((y - l.target).norm(), 1e-8) << "node " << l.nodes[0];
-    EXPECT_GT((y - landmarkPosition(l, rest)).norm(), 1e-3) << "node " << l.nodes[0];  // moved
+    EXPECT_GT((y - landmarkPosition(l, rest)).norm(), 5e-4) << "node " << l.nodes[0];  // moved
     l.target = y;
   }
 
@@ -57,6 +59,7 @@ TEST(LandmarkFitTongue, RecoversTheActivationsFromNoiseFreeEmaMarkers) {
   EXPECT_TRUE(r.converged()) << r.reason;
   const Eigen::VectorXd a = fit.parameters();
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(a[i], kTruth[i], 1e-6) << kMuscles[i];
+  std::printf("%zu iterations, RMS residual %.3e m\n", r.iterations.size(), r.residual);
   EXPECT_LT(r.residual, 1e-9);
   for (size_t k = 1; k < r.iterations.size(); ++k)
     EXPECT_LT(r.iterations[k].cost, r.iterations[k - 1].cost) << k;
