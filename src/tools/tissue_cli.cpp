@@ -70,7 +70,7 @@ const char* const kUsage =
     "                                        shear,work_J,energy_J)\n"
     "  tissue_cli fit SCENE.yaml --targets FILE [--out DIR] [--max-iterations N] [--tolerance R]\n"
     "                 [--step-tolerance S] [--levenberg-marquardt LAMBDA] [--cranium]\n"
-    "                 [--jaw-box XMIN YMIN ZMIN XMAX YMAX ZMAX] [--orthogonality-weight W]\n"
+    "                 [--jaw | --jaw-box XMIN YMIN ZMIN XMAX YMAX ZMAX] [--orthogonality-weight W]\n"
     "                                       (landmark fit of the activations, jaw and cranium;\n"
     "                                        exit 4 when it stops without converging)\n"
     "  tissue_cli models                    (every registered force model, law and integrator)\n";
@@ -617,6 +617,13 @@ int fit(const Arguments& args) {
   positive("levenberg-marquardt", params.levenbergMarquardt);
   positive("orthogonality-weight", params.orthogonalityWeight);
   params.fitCranium = args.has("cranium");
+  if (args.has("jaw") && args.has("jaw-box")) throw UsageError("give --jaw or --jaw-box, not both");
+  if (args.has("jaw")) {
+    if (scene.jawNodes.empty())
+      throw UsageError("--jaw: the scene has no jaw nodes (a boundary.fixed entry with jaw: true)");
+    params.jawNodes = scene.jawNodes;
+    params.fitJaw = true;
+  }
   if (args.has("jaw-box")) {
     Eigen::Vector3d lo, hi;
     for (int d = 0; d < 3; ++d) lo[d] = args.number("jaw-box", d), hi[d] = args.number("jaw-box", 3 + d);
@@ -681,7 +688,7 @@ int main(int argc, char** argv) {
       return fit(Arguments(argc, argv, 2,
                            {{"targets", 1}, {"out", 1}, {"max-iterations", 1}, {"tolerance", 1},
                             {"step-tolerance", 1}, {"levenberg-marquardt", 1}, {"cranium", 0},
-                            {"jaw-box", 6}, {"orthogonality-weight", 1}}));
+                            {"jaw", 0}, {"jaw-box", 6}, {"orthogonality-weight", 1}}));
     if (command == "models") return models(Arguments(argc, argv, 2, {}));
     if (command == "stretch")
       return stretch(Arguments(argc, argv, 2,

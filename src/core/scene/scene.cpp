@@ -513,18 +513,28 @@ void applyTagFile(const YamlEntry& spec, const fs::path& sceneDir, double frameT
   }
 }
 
+// jawNodes gets the nodes of the fixed entries marked `jaw: true`, which a landmark fit's jaw
+// transform moves (docs/muscles.md, "Landmark fitting"); sorted, each once.
 void applyBoundary(const YamlEntry& spec, const fs::path& sceneDir, double frameTime,
-                   System& system) {
+                   System& system, std::vector<int>& jawNodes) {
   spec.expectMap({"fixed", "controlled", "tags"});
   if (spec.has("fixed")) {
     const YamlEntry list = spec["fixed"];
     for (size_t k = 0; k < list.size(); ++k) {
       const YamlEntry item = list[k];
-      item.expectMap({"box", "plane", "nodes", "axes"});
+      item.expectMap({"box", "plane", "nodes", "axes", "jaw"});
       const std::uint8_t axes = item.has("axes") ? parseAxes(item["axes"]) : std::uint8_t{kFixedAll};
-      for (int n : selectNodes(item, system.mesh)) system.mesh.nodeTags[n] |= axes;
+      const bool jaw = item.boolean("jaw", false);
+      if (jaw && axes != kFixedAll)
+        item["axes"].fail("expected xyz for a jaw entry: the jaw moves its nodes on all axes");
+      for (int n : selectNodes(item, system.mesh)) {
+        system.mesh.nodeTags[n] |= axes;
+        if (jaw) jawNodes.push_back(n);
+      }
     }
   }
+  std::sort(jawNodes.begin(), jawNodes.end());
+  jawNodes.erase(std::unique(jawNodes.begin(), jawNodes.end()), jawNodes.end());
   if (spec.has("controlled")) {
     const YamlEntry list = spec["controlled"];
     for (size_t k = 0; k < list.size(); ++k) {
@@ -630,7 +640,8 @@ Scene loadScene(const std::string& path) {
     scene.duration = run.positive("duration", scene.duration);
     scene.kineticEnergyStop = readKineticEnergyStop(run);
   }
-  if (top.has("boundary")) applyBoundary(top["boundary"], sceneDir, scene.frameTime, system);
+  if (top.has("boundary"))
+    applyBoundary(top["boundary"], sceneDir, scene.frameTime, system, scene.jawNodes);
   system.prescribe(0.0, system.state.x, system.state.v);
 
   const YamlEntry integrator = top["integrator"];

@@ -72,6 +72,22 @@ TEST(MalformedNodeTags, SceneKeysNameFileLineAndKey) {
   testutil::expectEachSceneFailsClearly(cases, "bad_boundary.yaml");
 }
 
+// `jaw: true` marks fixed nodes that a landmark fit's jaw moves: on all axes only, a boolean.
+TEST(MalformedNodeTags, JawEntriesFixAllAxesAndTakeABoolean) {
+  const auto with = [](const std::string& b) { return replaced(kScene, "BOUNDARY", b); };
+  const std::vector<BadScene> cases = {
+      {"jaw on some axes", with("fixed: [{nodes: [0, 1], axes: xy, jaw: true}]"), 6,
+       "boundary.fixed[0].axes: expected xyz for a jaw entry: the jaw moves its nodes on all axes"},
+      {"jaw not a boolean", with("fixed: [{nodes: [0, 1], jaw: 1}]"), 6,
+       "boundary.fixed[0].jaw: expected true or false, got '1'"},
+      {"jaw misspelt", with("fixed: [{nodes: [0, 1], jaws: true}]"), 6,
+       "boundary.fixed[0].jaws: unknown key 'jaws'"},
+      {"jaw on a controlled entry", with("controlled: [{nodes: [26], velocity: [0, 0, 1], jaw: true}]"), 6,
+       "boundary.controlled[0].jaw: unknown key 'jaw'"},
+  };
+  testutil::expectEachSceneFailsClearly(cases, "bad_jaw.yaml");
+}
+
 // A node outside the mesh in the index file names the index file and its line.
 TEST(MalformedNodeTags, OutOfRangeNodeIsRefused) {
   writeScene("out_of_range.txt", "0 xyz\n27 z\n");

@@ -93,6 +93,26 @@ TEST(BoundaryTags, IndexFileTagsEachAxis) {
   EXPECT_EQ(x[3 * 24], 7.0);
 }
 
+// The nodes of `jaw: true` entries, and only those, are the scene's jaw nodes: fixed on all
+// axes, sorted and each once when two jaw entries overlap.
+TEST(BoundaryTags, JawEntriesListTheirNodes) {
+  const std::string boundary = R"(
+  fixed:
+    - {nodes: [5, 2], jaw: true}
+    - {plane: {point: [0, 0, 0], normal: [0, 0, 1]}}
+    - {nodes: [2, 26], jaw: true}
+    - {nodes: [24], jaw: false}
+)";
+  Scene scene = loadScene(writeScene("jaw_tags.yaml", replaced(kScene, "BOUNDARY", boundary)));
+  EXPECT_EQ(scene.jawNodes, (std::vector<int>{2, 5, 26}));
+  const std::set<int> fixed = constrained(scene.system);
+  for (int n : {2, 5, 26, 24, 0})
+    for (int d = 0; d < 3; ++d) EXPECT_EQ(fixed.count(3 * n + d), 1u) << n;
+  EXPECT_EQ(fixed.size(), 3u * 11);  // the 9 nodes of z = 0 (2 and 5 among them), 24 and 26
+  Scene plain = loadScene(writeScene("no_jaw_tags.yaml", replaced(kScene, "BOUNDARY", "{fixed: [{nodes: [3]}]}")));
+  EXPECT_TRUE(plain.jawNodes.empty());
+}
+
 TEST(BoundaryTags, ReaderKeepsLinesAndLetters) {
   const std::string path = writeScene("reader_tags.txt", "3 zX\n3 y\n");
   const std::vector<NodeTagLine> lines = readNodeTagFile(path, 4);

@@ -99,13 +99,18 @@ TEST(MuscleGroupsScene, ActivationFollowsItsTimeCurve) {
   EXPECT_LT(extent(s, 0, 0.0), 0.02);
 }
 
-// config/scenes/tongue_muscles.yaml loads, with both muscles reachable by name and the
-// palate's collision model.
+// config/scenes/tongue_muscles.yaml loads, with its three muscles reachable by name, the
+// palate's collision model, and the root (every constrained node) attached to the jaw.
 TEST(MuscleGroupsScene, TongueSceneLoads) {
   Scene scene = loadScene(std::string(TT_SOURCE_DIR) + "/config/scenes/tongue_muscles.yaml");
   const System& s = scene.system;
-  for (const char* name : {"superior_longitudinal", "transverse"})
+  for (const char* name : {"superior_longitudinal", "transverse", "genioglossus"})
     EXPECT_NE(s.findActivation(name).model, nullptr) << name;
+  std::vector<int> root;
+  for (int n = 0; n < s.numNodes(); ++n)
+    if (s.isConstrained[3 * n]) root.push_back(n);
+  EXPECT_FALSE(root.empty());
+  EXPECT_EQ(scene.jawNodes, root);
   ASSERT_EQ(s.models.size(), 3u);  // muscles, collision, gravity
   EXPECT_STREQ(s.models[1]->name(), "collision");
   const Eigen::VectorXd rest = Eigen::Map<const Eigen::VectorXd>(s.mesh.rest.data(), s.numDofs());

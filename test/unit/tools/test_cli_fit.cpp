@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 
@@ -77,6 +78,40 @@ TEST(CliFit, StopsWithExitCode4AndTheReasonWhenNotConverged) {
   EXPECT_EQ(r.exitCode, 4);
   EXPECT_NE(r.out.find("\nnot converged (iteration_limit): "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\nresidual "), std::string::npos) << r.out;
+}
+
+// The block with its bottom face marked `jaw: true`: --jaw fits a jaw transform moving those
+// nodes. The targets were taken with the jaw at rest, so it comes back as the identity.
+TEST(CliFit, JawFlagFitsTheScenesJawNodes) {
+  std::ifstream in(testutil::threeMuscleBlockPath());
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  const std::string scene = testutil::writeScene(
+      "jaw_block.yaml", testutil::replaced(text, "max: [1, 1, 0.001]}}", "max: [1, 1, 0.001]}, jaw: true}"));
+  const std::string targets = writeTargets(scene);
+  const testutil::CliResult r = testutil::runCli("fit " + scene + " --targets " + targets + " --jaw");
+  ASSERT_EQ(r.exitCode, 0) << r.err << r.out;
+  EXPECT_NE(r.out.find(", 15 parameters\n"), std::string::npos) << r.out;  // 3 activations + 12
+  const size_t at = r.out.find("\njaw ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  std::istringstream jaw(r.out.substr(at + 5));
+  const double identity[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
+  for (int k = 0; k < 12; ++k) {
+    double value = -1;
+    jaw >> value;
+    EXPECT_NEAR(value, identity[k], k < 9 ? 1e-6 : 1e-8) << k;
+  }
+}
+
+TEST(CliFit, JawFlagNeedsJawNodesAndExcludesTheJawBox) {
+  const std::string scene = testutil::threeMuscleBlockPath();
+  const std::string targets = writeTargets(scene);
+  testutil::CliResult r = testutil::runCli("fit " + scene + " --targets " + targets + " --jaw");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("--jaw: the scene has no jaw nodes (a boundary.fixed entry with jaw: true)"),
+            std::string::npos) << r.err;
+  r = testutil::runCli("fit " + scene + " --targets " + targets + " --jaw --jaw-box -1 -1 -1 1 1 0.001");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("give --jaw or --jaw-box, not both"), std::string::npos) << r.err;
 }
 
 TEST(CliFit, AMalformedTargetsFileIsOneErrorLine) {

@@ -63,6 +63,9 @@ struct Scene {
   SceneOutput output;
   std::optional<ContactSettings> contact;         // only when the scene lists `contact`
   std::optional<RenderSurface> renderSurface;     // only when the scene lists `render_surface`
+  // Nodes of `boundary.fixed` entries with `jaw: true` (fixed on all axes): the nodes a landmark
+  // fit's jaw transform moves (FitParams::jawNodes); sorted, each once.
+  std::vector<int> jawNodes;
   std::vector<std::string> notes;  // what the loader noticed (ignored elements, repairs)
 };
 
