@@ -371,7 +371,7 @@ void sweepGrid(const Grid& g, const std::string& path) {
                 << outcome << ',' << shownRun(a, b).growth << ',' << invertedMax(a, b) << ','
                 << b.guard.recoveries << ',' << b.guard.halvings << ',' << b.guard.failures << ','
                 << a.wallSeconds << ',' << b.wallSeconds << ','
-                << csvText(a.ok ? "" : b.ok ? a.failure : b.failure) << '\n';
+                << csvText(a.ok ? "" : b.ok ? a.failure : b.failure) << std::endl;  // flushed: a stopped run keeps its rows
             ++done;
           }
       std::printf("[%3zu%%] grid %-18s %-33s stable %3d  recovered %3d  failed %3d\n",
@@ -571,7 +571,7 @@ void sweepExtremes(bool quick, const std::string& path,
             << shownRun(o[0], o[1]).growth << ',' << invertedMax(o[0], o[1]) << ','
             << o[1].guard.recoveries << ','
             << o[1].guard.halvings << ',' << o[1].guard.failures << ',' << o[0].wallSeconds << ','
-            << csvText(o[0].ok ? "" : o[1].ok ? o[0].failure : o[1].failure) << '\n';
+            << csvText(o[0].ok ? "" : o[1].ok ? o[0].failure : o[1].failure) << std::endl;
         std::printf("[extreme] %-18s %-16s h %.0e %-26s %-9s inverted %3d  guard halvings %ld\n",
                     c.name.c_str(), integrator.c_str(), h, model.c_str(), outcome.c_str(),
                     invertedMax(o[0], o[1]), o[1].guard.halvings);
