@@ -34,10 +34,13 @@ PROBLEMS = {
         "1. Cantilever, small deflection (static)",
         "Beam 0.1 x 0.01 x 0.01 m (2 x 2 cells across, 20 along, 480 tets), E = 100 kPa, "
         "nu = 0.3, 1000 kg/m^3, clamped at x = 0, under a body load of 1 % of gravity, so the "
-        "Euler-Bernoulli tip deflection is 1.5 % of the length. The core has no quasi-static "
-        "solver, so every integrator runs the damped dynamics from rest to steady state "
-        "(mass-proportional damping, critical for the first mode, 2 s = 20 / omega_1); the "
-        "implicit methods with long steps are pseudo-time continuation. Error: relative tip "
+        "Euler-Bernoulli tip deflection is 1.5 % of the length. Every dynamic integrator runs "
+        "the damped dynamics from rest to steady state (mass-proportional damping, critical for "
+        "the first mode, 2 s = 20 / omega_1); the implicit methods with long steps are "
+        "pseudo-time continuation. The quasistatic solver (`quasistatic`: Newton with "
+        "Jacobi-preconditioned CG, `quasistatic_cholesky`: with a sparse Cholesky factor) solves "
+        "the equilibrium in one frame, at relative tolerances of the residual 1e-2 .. 1e-10. "
+        "Error: relative tip "
         "deflection against Euler-Bernoulli; discrete error: against the static solution of the "
         "same mesh and model (Newton with a sparse Cholesky solve). Every converged run "
         "lands on the mesh's own deflection, which the coarse mesh puts far from "
@@ -85,6 +88,19 @@ PROBLEMS = {
         "their fit. Discrete error: the largest difference of that stress from Radau IIA's at "
         "rtol 1e-9 on the same model over the samples, relative to 4425 Pa. The explicit sweep's "
         "limit is 2 / omega_max at 15 % stretch (the models stiffen)."),
+    "muscle_contraction": (
+        "6. Muscle: a block contracting at activation 0.5",
+        "A 2 x 2 x 1 cm block (192 tets), fibres along x, base clamped, `muscle_groups` with the "
+        "teran_muscle law (constants from E 30 kPa, nu 0.45: mu = 2 (A + B), A = 3 B, bulk "
+        "E / (3 (1 - 2 nu)), sigma_max = mu), one muscle over every element switched on at "
+        "activation 0.5 at t = 0; 1060 kg/m^3, mass-proportional damping 2 omega_1, run for "
+        "20 / omega_1. Only the muscle tissue runs it: teran_muscle (no inversion handling), "
+        "teran_muscle_inversion (threshold 0.25) and teran_muscle_inversion_psd (and PSD "
+        "tangents). The quasistatic solver solves the equilibrium in one frame; the dynamic "
+        "integrators run the damped contraction to rest. Error (= discrete error): the largest "
+        "node distance of the end state from the same model's equilibrium (the bench's own "
+        "Newton with a sparse Cholesky solve, activation raised in ten steps), relative to the "
+        "largest displacement of that equilibrium."),
 }
 
 
@@ -155,9 +171,11 @@ def load_runs(rows):
 COLOURS = {"newtonian": "tab:blue", "symplectic_euler": "tab:cyan", "explicit_euler": "tab:gray",
            "backward_euler": "tab:orange", "backward_euler_newton": "tab:red",
            "radau_iia": "tab:green", "static_newton": "tab:purple",
-           "backward_euler_adaptive": "tab:brown"}
+           "backward_euler_adaptive": "tab:brown", "abm3": "tab:olive",
+           "quasistatic": "tab:pink", "quasistatic_cholesky": "darkviolet"}
 MARKERS = {"edge_length": "o", "edge_length_literal": "s", "stvk_displacement": "^",
-           "stvk_displacement_paper_literal": "v", "tensor_mass": "D"}
+           "stvk_displacement_paper_literal": "v", "tensor_mass": "D",
+           "teran_muscle": "o", "teran_muscle_inversion": "s", "teran_muscle_inversion_psd": "^"}
 FLOOR = 1e-16  # exact results are drawn here on the log axis
 
 # bench_bullet_peer: Bullet's forces (legend name, marker, colour) and our pair beside them.
@@ -452,7 +470,35 @@ def summary_row(problem, runs):
     return "| " + " | ".join(cells) + " |"
 
 
-def mesh_section(mesh_runs, out_dir):
+def mesh_solver_lines(mesh_runs):
+    """The quasistatic solver beside the static Newton on each mesh (when both ran)."""
+    cpu = defaultdict(lambda: defaultdict(list))
+    error = defaultdict(lambda: defaultdict(dict))
+    tets = {}
+    for r in mesh_runs:
+        cpu[r["integrator"]][r["parameter"]].append(r["cpu"])
+        error[r["parameter"]][r["model"]][r["integrator"]] = r["error"]
+        tets[r["parameter"]] = r["tets"]
+    if "static_newton" not in cpu or "quasistatic_cholesky" not in cpu:
+        return []
+    median = lambda xs: sorted(xs)[len(xs) // 2] if xs else float("nan")  # noqa: E731
+    lines = ["The quasistatic solver (`quasistatic_cholesky`, rtol 1e-8) on the same meshes, "
+             "CPU time per solve (median over the models) and its largest difference from the "
+             "static Newton's error:", "",
+             "| cells across | tets | static Newton (s) | quasistatic_cholesky (s) | largest error "
+             "difference (at the CSV's 6 digits) |", "|---|---|---|---|---|"]
+    for c in sorted(tets):
+        diffs = [abs(e["quasistatic_cholesky"] - e["static_newton"])
+                 for e in error[c].values() if "quasistatic_cholesky" in e and "static_newton" in e
+                 and finite(e["quasistatic_cholesky"]) and finite(e["static_newton"])]
+        lines.append(f"| {int(c)} | {tets[c]} | {fmt(median(cpu['static_newton'][c]))} | "
+                     f"{fmt(median(cpu['quasistatic_cholesky'][c]))} | "
+                     f"{fmt(max(diffs)) if diffs else 'n/a'} |")
+    return lines + [""]
+
+
+def mesh_section(all_mesh_runs, out_dir):
+    mesh_runs = [r for r in all_mesh_runs if r["integrator"] == "static_newton"]
     slopes = plot_mesh_convergence(mesh_runs, out_dir)
     cells = sorted({r["parameter"] for r in mesh_runs})
     lines = ["## 1b. Cantilever: mesh convergence", "",
@@ -472,7 +518,7 @@ def mesh_section(mesh_runs, out_dir):
         lines.append(f"| {model} | " + " | ".join(fmt(errors.get(c, float("nan"))) for c in cells) +
                      f" | {fmt(slopes.get(model, float('nan')))} |")
     lines += ["", "Tets: " + ", ".join(f"{c} across {t}" for c, t in sorted(tets.items())) + ".", ""]
-    return lines
+    return lines + mesh_solver_lines(all_mesh_runs)
 
 
 def scaling_section(d):
@@ -549,6 +595,8 @@ def main():
     parser.add_argument("--elapsed", type=float, default=float("nan"))
     parser.add_argument("--command", default="scripts/bench")
     parser.add_argument("--note", default="", help="what else ran on the machine, for the report")
+    parser.add_argument("--repeats", type=int, default=1,
+                        help="the benchmark's --repeats: each time is the median of that many runs")
     parser.add_argument("--implicit-scaling", action="store_true",
                         help="only draw DIR/scaling_implicit.png from DIR/scaling.csv and "
                              "scaling_fits.csv (bench_scaling's implicit-step rows)")
@@ -581,7 +629,9 @@ def main():
              "(references and set-up not included).",
              f"Machine: {machine_text()}." + (f" {args.note}" if args.note else "")
              + " The plots use the process CPU time of each run (one thread), measured in the "
-             "same process and the same run as its error. Each run is timed once.", "",
+             "same process and the same run as its error. "
+             + ("Each run is timed once." if args.repeats == 1 else
+                f"Each row is the run of the median CPU time of {args.repeats}."), "",
              "Files: `work_precision.csv` (one row per run: " + ", ".join(WORK_COLUMNS) +
              ", then parameter_name, discrete_error, tets, note), `work_precision_facts.csv` "
              "(analytic values, references and their accuracy), `scaling.csv`, "
@@ -595,7 +645,9 @@ def main():
              "forward), at 1.5, 0.9, 0.5, 0.25 and 0.125 of the "
              "stability limit 2 / omega_max at rest; `backward_euler` (linearised, one Newton "
              "step) and `backward_euler_newton` (up to 8 Newton iterations) over a step sweep; "
-             "`radau_iia` (analytical Jacobian) at relative tolerances 1e-2 .. 1e-7. "
+             "`radau_iia` (analytical Jacobian) at relative tolerances 1e-2 .. 1e-7; on the "
+             "static problems (1 and 6) also the quasistatic solver, `quasistatic` (Jacobi) and "
+             "`quasistatic_cholesky`, at relative tolerances 1e-2 .. 1e-10. "
              "Pareto front: the runs no other run beats in both CPU time and error. Best pair: "
              "the model + integrator with the most runs on the front.", ""]
 

@@ -30,7 +30,15 @@
 //    -> extreme_cases.csv
 // Besides the registry's presets, the grid and the extreme cases run the two Adamss tissue
 // models of adamss_bench_models.h (adamss_hunter, adamss_springs), their stiffness scaled to
-// Young's modulus and a volume term from the Poisson ratio (see that file).
+// Young's modulus and a volume term from the Poisson ratio (see that file), and the muscle
+// tissue of muscle_bench_models.h (muscle_groups with the teran_muscle law at activation 0.5:
+// teran_muscle, teran_muscle_inversion with inversion threshold 0.25, and
+// teran_muscle_inversion_psd with PSD-projected tangents, which only the integrators that use
+// the stiffness run: for the others it is teran_muscle_inversion). The muscle tissue alone also
+// runs the quasistatic solver (each frame the equilibrium at the frame's end; the step h is
+// only the frame), in the grid and in every extreme case but the impact, which is all inertia.
+// The energy of the tests is counted from the rest state's (the muscle law keeps
+// psi(I) = 3 (A + B)).
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <algorithm>
@@ -46,10 +54,12 @@
 
 #include "adamss_bench_models.h"
 #include "bench_support.h"
+#include "muscle_bench_models.h"
 #include "tissue_trainer/core/integrate/abm3.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/integrate/explicit_euler.h"
 #include "tissue_trainer/core/integrate/newtonian.h"
+#include "tissue_trainer/core/integrate/quasistatic.h"
 #include "tissue_trainer/core/integrate/radau_iia.h"
 #include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/mesh/generators.h"
@@ -61,6 +71,7 @@ constexpr double kBlock = 0.02;       // m
 constexpr double kDensity = 1000.0;   // kg/m^3
 constexpr double kDampingRate = 1.0;  // 1/s, mass damping
 constexpr double kBlowUpGrowth = 10.0;
+constexpr double kMuscleActivation = 0.5;
 
 // ---- the block ------------------------------------------------------------------------------
 
@@ -79,6 +90,8 @@ std::unique_ptr<System> blockSystem(const std::string& model, double young, doub
                                               Material::isotropic(young, poisson, kDensity)});
   if (adamss_bench::isAdamssModel(model))
     adamss_bench::addModel(*s, model, adamss_bench::scalingFor(young, poisson));
+  else if (muscle_bench::isMuscleModel(model))
+    muscle_bench::addModel(*s, model, young, poisson, kMuscleActivation);
   else
     s->models.push_back(makeElasticModel(model, s->mesh, s->materials));
   s->damping = kDampingRate * s->mass;
@@ -92,8 +105,9 @@ void shear(System& s, double amount) {
     s.state.x[3 * n] += amount * s.mesh.rest(2, n);
 }
 
-double totalEnergy(const System& s) {
-  return s.kineticEnergy(s.state.v) + s.potentialEnergy(s.state.x);
+// Kinetic plus potential energy, the potential counted from the rest state's.
+double totalEnergy(const System& s, double restPotential) {
+  return s.kineticEnergy(s.state.v) + s.potentialEnergy(s.state.x) - restPotential;
 }
 
 struct TetCounts {
@@ -154,6 +168,19 @@ std::unique_ptr<Integrator> makeAdaptiveStepper(const std::string& name, double 
 const std::vector<std::string> kIntegrators = {"explicit_euler", "symplectic_euler", "newtonian",
                                                "backward_euler", "radau_iia_fixed", "abm3_fixed"};
 
+// Whether the integrator solves with the stiffness (so that a PSD projection changes it).
+bool usesStiffness(const std::string& integrator) {
+  return integrator == "backward_euler" || integrator == "backward_euler_adaptive" ||
+         integrator == "radau_iia_fixed" || integrator == "quasistatic";
+}
+
+// The pairs the sweep runs: the quasistatic solver on the muscle tissue only, and the
+// PSD-projected muscle only where the projection changes anything.
+bool runsPair(const std::string& integrator, const std::string& model) {
+  if (integrator == "quasistatic") return muscle_bench::isMuscleModel(model);
+  return model != "teran_muscle_inversion_psd" || usesStiffness(integrator);
+}
+
 std::unique_ptr<Integrator> makeStepper(const std::string& name, double h) {
   if (name == "explicit_euler" || name == "symplectic_euler") {
     ExplicitEulerParams p;
@@ -174,6 +201,7 @@ std::unique_ptr<Integrator> makeStepper(const std::string& name, double h) {
     return std::make_unique<Abm3Integrator>(p);
   }
   if (isAdaptiveStepper(name)) return makeAdaptiveStepper(name, h);
+  if (name == "quasistatic") return std::make_unique<QuasistaticIntegrator>();  // scene defaults
   RadauOptions o;  // radau_iia_fixed: fixed steps of h, Newton must converge
   o.adaptive = false;
   o.initialStep = h;
@@ -202,7 +230,8 @@ Outcome run(System& s, std::unique_ptr<Integrator> integrator, double h, int fra
     guard = g.get();
     integrator = std::move(g);
   }
-  const double e0 = std::max(totalEnergy(s), energyScale);
+  const double restPotential = s.potentialEnergy(s.mesh.rest.reshaped());
+  const double e0 = std::max(totalEnergy(s, restPotential), energyScale);
   std::vector<double> restVolume;
   const Eigen::Map<const Eigen::Matrix3Xd> rest(s.mesh.rest.data(), 3, s.numNodes());
   for (const Tet& t : s.mesh.tets) restVolume.push_back(tetVolume(rest, t));
@@ -211,7 +240,7 @@ Outcome run(System& s, std::unique_ptr<Integrator> integrator, double h, int fra
   for (int f = 0; f < frames; ++f) {
     const StepReport r = integrator->advance(s, h);
     const bool finite = s.state.x.allFinite() && s.state.v.allFinite();
-    const double e = finite ? totalEnergy(s) : INFINITY;
+    const double e = finite ? totalEnergy(s, restPotential) : INFINITY;
     out.growth = std::max(out.growth, e / e0);
     TetCounts bad;
     if (finite) bad = countBadTets(s, restVolume);
@@ -288,9 +317,11 @@ Grid grid(bool quick) {
   g.steps = {1e-5, 1e-4, 1e-3, 1e-2, 1e-1};
   g.models = bench::elasticModelNames();
   for (const std::string& m : adamss_bench::modelNames()) g.models.push_back(m);  // Adamss
+  for (const std::string& m : muscle_bench::modelNames()) g.models.push_back(m);
   g.integrators = kIntegrators;
   g.integrators.insert(g.integrators.end(), kAdaptiveIntegrators.begin(),
                        kAdaptiveIntegrators.end());
+  g.integrators.push_back("quasistatic");
   return g;
 }
 
@@ -300,7 +331,8 @@ Grid grid(bool quick) {
 // Jeffrey, "A non-linear anisotropic Finite Element Method for surgical simulation"
 // (stvk_displacement_paper_literal) is the slowest path of all.
 bool inGrid(const std::string& integrator, const std::string& model) {
-  return integrator != "radau_iia_fixed" || model == "edge_length" || model == "tensor_mass";
+  return runsPair(integrator, model) &&
+         (integrator != "radau_iia_fixed" || model == "edge_length" || model == "tensor_mass");
 }
 
 int framesFor(double h) { return std::max(50, static_cast<int>(std::ceil(0.005 / h))); }
@@ -339,7 +371,7 @@ void sweepGrid(const Grid& g, const std::string& path) {
                 << outcome << ',' << shownRun(a, b).growth << ',' << invertedMax(a, b) << ','
                 << b.guard.recoveries << ',' << b.guard.halvings << ',' << b.guard.failures << ','
                 << a.wallSeconds << ',' << b.wallSeconds << ','
-                << csvText(a.ok ? "" : b.ok ? a.failure : b.failure) << '\n';
+                << csvText(a.ok ? "" : b.ok ? a.failure : b.failure) << std::endl;  // flushed: a stopped run keeps its rows
             ++done;
           }
       std::printf("[%3zu%%] grid %-18s %-33s stable %3d  recovered %3d  failed %3d\n",
@@ -495,16 +527,19 @@ void sweepExtremes(bool quick, const std::string& path,
          "guard_halvings,guard_failures,wall_seconds,failure\n";
   const double young = 1e4, poisson = 0.45;
   std::vector<std::string> models =
-      quick ? std::vector<std::string>{"edge_length"} : std::vector<std::string>{"edge_length", "stvk_displacement", "tensor_mass"};
-  if (!quick)  // the Adamss models
-    for (const std::string& m : adamss_bench::modelNames()) models.push_back(m);
+      quick ? std::vector<std::string>{"edge_length", "teran_muscle_inversion"} : std::vector<std::string>{"edge_length", "stvk_displacement", "tensor_mass"};
+  if (!quick)  // the Adamss models and the muscle tissue
+    for (const auto* names : {&adamss_bench::modelNames(), &muscle_bench::modelNames()})
+      models.insert(models.end(), names->begin(), names->end());
   std::vector<std::pair<std::string, double>> steppers =
-      quick ? std::vector<std::pair<std::string, double>>{{"backward_euler", 1e-3}}
+      quick ? std::vector<std::pair<std::string, double>>{{"backward_euler", 1e-3}, {"quasistatic", 0.05}}
             : std::vector<std::pair<std::string, double>>{
                   {"symplectic_euler", 1e-4}, {"newtonian", 1e-4}, {"backward_euler", 1e-3},
                   {"backward_euler", 1e-2}, {"radau_iia_fixed", 1e-3}, {"abm3_fixed", 1e-4}};
   // The adaptive steppers of the Adamss chapter (frames of h, see makeAdaptiveStepper).
-  if (!quick) steppers.insert(steppers.end(), {{"backward_euler_adaptive", 1e-3}, {"abm3", 1e-3}});
+  if (!quick)
+    steppers.insert(steppers.end(),
+                    {{"backward_euler_adaptive", 1e-3}, {"abm3", 1e-3}, {"quasistatic", 1e-3}});
   models.erase(std::remove_if(models.begin(), models.end(),
                               [&](const std::string& m) { return !bench::selected(onlyModels, m); }),
                models.end());
@@ -514,6 +549,10 @@ void sweepExtremes(bool quick, const std::string& path,
   for (const Case& c : extremeCases())
     for (const auto& [integrator, h] : steppers)
       for (const std::string& model : models) {
+        if (!runsPair(integrator, model) ||
+            (integrator == "quasistatic" && c.name == "impact_20m_per_s") ||
+            (quick && muscle_bench::isMuscleModel(model) && integrator != "quasistatic"))
+          continue;
         const Mesh mesh = blockMesh(c.heightScale);
         const int frames = static_cast<int>(std::ceil(c.duration / h));
         Outcome o[2];
@@ -532,7 +571,7 @@ void sweepExtremes(bool quick, const std::string& path,
             << shownRun(o[0], o[1]).growth << ',' << invertedMax(o[0], o[1]) << ','
             << o[1].guard.recoveries << ','
             << o[1].guard.halvings << ',' << o[1].guard.failures << ',' << o[0].wallSeconds << ','
-            << csvText(o[0].ok ? "" : o[1].ok ? o[0].failure : o[1].failure) << '\n';
+            << csvText(o[0].ok ? "" : o[1].ok ? o[0].failure : o[1].failure) << std::endl;
         std::printf("[extreme] %-18s %-16s h %.0e %-26s %-9s inverted %3d  guard halvings %ld\n",
                     c.name.c_str(), integrator.c_str(), h, model.c_str(), outcome.c_str(),
                     invertedMax(o[0], o[1]), o[1].guard.halvings);

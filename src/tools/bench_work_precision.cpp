@@ -12,16 +12,24 @@
 //   5. uniaxial_stretch       a myocardium cube stretched 15 % along its fibres, for the two
 //                             Adamss models only (work_precision_adamss.h); error of the end
 //                             stress against the Hunter law
+//   6. muscle_contraction     a muscle block contracting to equilibrium at activation 0.5, for
+//                             the teran_muscle variants only (work_precision_muscle.h); error
+//                             against the equilibrium of the same model
+// The static problems (1 and 6) also run the quasistatic solver: one frame, the equilibrium
+// at a sweep of tolerances (Jacobi- and Cholesky-preconditioned CG); the mesh-refinement runs
+// of 1 run it beside the bench's own static Newton.
 // Each run's error and CPU / wall time are measured in this process (one thread). --quick: two
 // presets (edge_length, tensor_mass) and the two Adamss models, one step or tolerance per
 // integrator, looser references.
 // Writes DIR/work_precision.csv (one row per run) and DIR/work_precision_facts.csv (the
 // analytic values, references and their accuracy).
 //   bench_work_precision [--quick] [--out DIR] [--problems a,b] [--models a,b]
-//                        [--integrators a,b] [--time-limit S]
-// --integrators: the runs of these integrators only (static_newton: the mesh-refinement runs).
+//                        [--integrators a,b] [--time-limit S] [--repeats N]
+// --integrators: the runs of these integrators only (static_newton: the mesh-refinement runs;
+// quasistatic_cholesky also runs them).
 // --time-limit: CPU seconds per run (default 20; 3 with --quick); a run past it stops and is
 // listed without an error.
+// --repeats: each run N times (default 1); the row is the run of the median CPU time.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -37,9 +45,12 @@
 #include "tissue_trainer/core/integrate/abm3.h"
 #include "tissue_trainer/core/integrate/explicit_euler.h"
 #include "tissue_trainer/core/integrate/newtonian.h"
+#include "tissue_trainer/core/integrate/quasistatic.h"
 #include "tissue_trainer/core/parallel.h"
+#include "muscle_bench_models.h"
 #include "work_precision_csv.h"
 #include "work_precision_adamss.h"
+#include "work_precision_muscle.h"
 #include "work_precision_problems.h"
 
 namespace {
@@ -53,6 +64,7 @@ struct Options {
   std::vector<std::string> problems, models;  // empty: all
   std::vector<std::string> integrators;       // empty: all
   double timeLimit = 20.0;                    // s of CPU time per run
+  int repeats = 1;
 };
 
 struct IntegratorSpec {
@@ -165,12 +177,41 @@ std::vector<IntegratorSpec> iterationControlSweep(const Problem& p, bool quick) 
   return specs;
 }
 
+// The quasistatic solver on a static problem: one frame over the whole duration, converged at
+// a relative tolerance rtol of the residual at the start (the absolute one out of the way),
+// each CG solve to 1e-2 rtol (at least 1e-12), with Jacobi or sparse Cholesky preconditioning.
+EquilibriumParams quasistaticParams(double tol, bool cholesky) {
+  EquilibriumParams params;
+  params.relativeTolerance = tol;
+  params.absoluteTolerance = 1e-300;
+  params.linearTolerance = std::max(1e-12, 1e-2 * tol);
+  params.preconditioner = cholesky ? EquilibriumParams::Preconditioning::kCholesky
+                                   : EquilibriumParams::Preconditioning::kJacobi;
+  return params;
+}
+
+std::vector<IntegratorSpec> quasistaticSweep(const Problem& p, bool quick) {
+  const std::vector<double> tolerances =
+      quick ? std::vector<double>{1e-6}
+            : std::vector<double>{1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-10};
+  std::vector<IntegratorSpec> specs;
+  for (bool cholesky : {false, true})
+    for (double tol : tolerances) {
+      const EquilibriumParams params = quasistaticParams(tol, cholesky);
+      specs.push_back({cholesky ? "quasistatic_cholesky" : "quasistatic", "rtol", tol, p.duration,
+                       [params] { return std::make_unique<QuasistaticIntegrator>(params); }});
+    }
+  return specs;
+}
+
 std::vector<IntegratorSpec> allIntegrators(const Problem& p, bool quick) {
   std::vector<IntegratorSpec> specs = explicitSweep(p, quick);
   for (auto& s : backwardEulerSweep(p, quick)) specs.push_back(s);
   for (auto& s : radauSweep(p, quick)) specs.push_back(s);
   for (auto& s : abm3Sweep(p, quick)) specs.push_back(s);
   for (auto& s : iterationControlSweep(p, quick)) specs.push_back(s);
+  if (p.isStatic)
+    for (auto& s : quasistaticSweep(p, quick)) specs.push_back(s);
   return specs;
 }
 
@@ -221,6 +262,16 @@ RunResult runOnce(const Problem& p, const std::string& model, const IntegratorSp
   return r;
 }
 
+// The run of the median CPU time among `repeats` runs of `once` (the upper median of an even
+// count).
+RunResult medianRun(int repeats, const std::function<RunResult()>& once) {
+  std::vector<RunResult> runs;
+  for (int k = 0; k < repeats; ++k) runs.push_back(once());
+  std::sort(runs.begin(), runs.end(),
+            [](const RunResult& a, const RunResult& b) { return a.cpu < b.cpu; });
+  return runs[runs.size() / 2];
+}
+
 // --- output ------------------------------------------------------------------------------------
 
 void progress(int done, int total, const std::string& what, const RunResult& r) {
@@ -231,9 +282,12 @@ void progress(int done, int total, const std::string& what, const RunResult& r) 
 
 // --- cantilever mesh convergence (static Newton with a sparse Cholesky solve) ------------------
 
+// integrator: static_newton (the bench's own Newton, sparse Cholesky) or
+// quasistatic_cholesky (the quasistatic solver at rtol 1e-8, one frame: 1e-10 is below the
+// round-off of the residual on these beams).
 struct MeshRun {
   int cellsAcross;
-  std::string model;
+  std::string model, integrator;
 };
 
 RunResult meshConvergenceRun(const MeshRun& run) {
@@ -245,10 +299,22 @@ RunResult meshConvergenceRun(const MeshRun& run) {
   r.tets = s->mesh.numTets();
   Eigen::VectorXd x = s->mesh.rest.reshaped();
   const double cpu0 = bench::cpuSeconds(), wall0 = bench::wallSeconds();
-  r.newton = r.linear = staticEquilibrium(*s, x, 1e-14);
+  if (run.integrator == "static_newton") {
+    r.newton = r.linear = staticEquilibrium(*s, x, 1e-14);
+    r.steps = 1;
+  } else {
+    QuasistaticIntegrator quasistatic(quasistaticParams(1e-8, true));
+    const StepReport step = quasistatic.advance(*s, 1.0);
+    addReport(r, step);
+    x = s->state.x;
+    if (!step.ok) {
+      r.stable = false;
+      r.errors.note = step.failure;
+    }
+  }
   r.cpu = bench::cpuSeconds() - cpu0;
   r.wall = bench::wallSeconds() - wall0;
-  r.steps = 1;
+  if (!r.stable) return r;
   const double tip = -meanOf(x, s->mesh.rest, tipNodes(s->mesh, beam.length)).z();
   r.errors.error = relative(tip, beam.tipDeflection(g));
   r.errors.note = "tip deflection " + std::to_string(tip) + " m";
@@ -261,7 +327,8 @@ RunResult meshConvergenceRun(const MeshRun& run) {
 std::vector<std::string> modelsOf(const Problem& p, const std::vector<std::string>& chosen) {
   std::vector<std::string> out;
   for (const std::string& m : chosen)
-    if (p.models.empty() ? !adamss_bench::isAdamssModel(m) : bench::selected(p.models, m))
+    if (p.models.empty() ? !adamss_bench::isAdamssModel(m) && !muscle_bench::isMuscleModel(m)
+                         : bench::selected(p.models, m))
       out.push_back(m);
   return out;
 }
@@ -277,23 +344,26 @@ Options parseOptions(int argc, char** argv) {
     else if (arg == "--problems" && hasValue) o.problems = bench::splitList(argv[++i]);
     else if (arg == "--models" && hasValue) o.models = bench::splitList(argv[++i]);
     else if (arg == "--integrators" && hasValue) o.integrators = bench::splitList(argv[++i]);
+    else if (arg == "--repeats" && hasValue)
+      o.repeats = bench::positiveInteger("bench_work_precision", arg, argv[++i]);
     else if (arg == "--time-limit" && hasValue) {
       o.timeLimit = bench::positiveNumber("bench_work_precision", arg, argv[++i]);
       timeLimitGiven = true;
     }
     else {
       std::fprintf(stderr, "usage: bench_work_precision [--quick] [--out DIR] [--problems a,b] "
-                           "[--models a,b] [--integrators a,b] [--time-limit S]\n");
+                           "[--models a,b] [--integrators a,b] [--time-limit S] [--repeats N]\n");
       std::exit(2);
     }
   }
   bench::requireKnown("bench_work_precision", "integrator", o.integrators,
                       {"newtonian", "symplectic_euler", "explicit_euler", "backward_euler",
                        "backward_euler_newton", "radau_iia", "abm3", "backward_euler_adaptive",
-                       "static_newton"});
+                       "static_newton", "quasistatic", "quasistatic_cholesky"});
   if (o.quick && !timeLimitGiven) o.timeLimit = 3.0;
   if (o.quick && o.models.empty())
-    o.models = {"edge_length", "tensor_mass", "adamss_hunter", "adamss_springs"};
+    o.models = {"edge_length", "tensor_mass", "adamss_hunter", "adamss_springs",
+                "teran_muscle_inversion_psd"};
   return o;
 }
 
@@ -310,6 +380,7 @@ std::vector<std::unique_ptr<Problem>> makeProblems(const Options& o) {
   auto stretch = std::make_unique<UniaxialStretch>();
   if (o.quick) stretch->referenceTolerance = 1e-6;
   all.push_back(std::move(stretch));
+  all.push_back(std::make_unique<MuscleContraction>());
   std::vector<std::string> names = {"cantilever_static_mesh"};  // the mesh-refinement runs
   for (const auto& p : all) names.push_back(p->name);
   bench::requireKnown("bench_work_precision", "problem", o.problems, names);
@@ -337,6 +408,7 @@ int main(int argc, char** argv) {
   setThreadCount(1);
   std::vector<std::string> models = bench::elasticModelNames();
   for (const std::string& m : adamss_bench::modelNames()) models.push_back(m);
+  for (const std::string& m : muscle_bench::modelNames()) models.push_back(m);
   bench::keepOnly("bench_work_precision", "model", models, options.models);
   auto problems = makeProblems(options);  // names checked before anything is written
   std::filesystem::create_directories(options.out);
@@ -347,11 +419,13 @@ int main(int argc, char** argv) {
     std::printf("prepared %s in %.1f s\n", p->name.c_str(), bench::wallSeconds() - wall0);
   }
   std::vector<MeshRun> meshRuns;
-  if (bench::selected(options.problems, "cantilever_static_mesh") &&
-      bench::selected(options.integrators, "static_newton"))
-    for (int cells : options.quick ? std::vector<int>{1, 2} : std::vector<int>{1, 2, 3, 4, 6, 8})
-      for (const std::string& m : models)
-        if (!adamss_bench::isAdamssModel(m)) meshRuns.push_back({cells, m});
+  if (bench::selected(options.problems, "cantilever_static_mesh"))
+    for (const char* integrator : {"static_newton", "quasistatic_cholesky"})
+      if (bench::selected(options.integrators, integrator))
+        for (int cells : options.quick ? std::vector<int>{1, 2} : std::vector<int>{1, 2, 3, 4, 6, 8})
+          for (const std::string& m : models)
+            if (!adamss_bench::isAdamssModel(m) && !muscle_bench::isMuscleModel(m))
+              meshRuns.push_back({cells, m, integrator});
 
   struct Task {
     const Problem* problem;
@@ -375,7 +449,9 @@ int main(int argc, char** argv) {
   const int total = static_cast<int>(tasks.size() + meshRuns.size());
   int done = 0;
   for (const Task& task : tasks) {
-    const RunResult r = runOnce(*task.problem, task.model, task.spec, options.timeLimit);
+    const RunResult r = medianRun(options.repeats, [&] {
+      return runOnce(*task.problem, task.model, task.spec, options.timeLimit);
+    });
     writeRunRow(csv, task.problem->name, task.model, task.spec.integrator, task.spec.parameterName,
              task.spec.parameter, r);
     char what[256];
@@ -385,11 +461,12 @@ int main(int argc, char** argv) {
     progress(++done, total, what, r);
   }
   for (const MeshRun& run : meshRuns) {
-    const RunResult r = meshConvergenceRun(run);
-    writeRunRow(csv, "cantilever_static_mesh", run.model, "static_newton", "cells_across",
+    const RunResult r = medianRun(options.repeats, [&] { return meshConvergenceRun(run); });
+    writeRunRow(csv, "cantilever_static_mesh", run.model, run.integrator, "cells_across",
              run.cellsAcross, r);
     progress(++done, total,
-             "cantilever_static_mesh " + run.model + " cells_across=" + std::to_string(run.cellsAcross), r);
+             "cantilever_static_mesh " + run.model + " " + run.integrator +
+                 " cells_across=" + std::to_string(run.cellsAcross), r);
   }
   std::fclose(csv);
   writeFacts(options.out + "/work_precision_facts.csv", problems);

@@ -60,6 +60,8 @@ class Problem {
   std::vector<Fact> facts;
   // The models this problem runs instead of the registry's presets (empty: the presets).
   std::vector<std::string> models;
+  // A static problem (its answer is an equilibrium): the quasistatic solver runs it too.
+  bool isStatic = false;
 };
 
 inline RadauOptions radauOptions(const Problem& p, double tol) {
@@ -152,6 +154,7 @@ class CantileverStatic : public Problem {
  public:
   CantileverStatic() {
     name = "cantilever_static";
+    isStatic = true;
     omegaBeam_ = beam_.firstOmega();
     damping_ = 2.0 * omegaBeam_;  // critical for the first mode
     duration = 2.0;               // 20 / omega_1: the damped transient is below 1e-8

@@ -77,12 +77,13 @@ TEST_F(BenchPipeline, WorkPrecisionCsvHasTheColumnsAndEveryProblem) {
   }
   const std::set<std::string> expected = {"cantilever_static", "cantilever_vibration",
                                           "beam_large_deflection", "spindle_pull", "patch",
-                                          "uniaxial_stretch", "cantilever_static_mesh"};
+                                          "uniaxial_stretch", "muscle_contraction",
+                                          "cantilever_static_mesh"};
   EXPECT_EQ(problems, expected);
   EXPECT_EQ(stableProblems, expected);  // every problem has a run with a finite error
   for (const char* name : {"explicit_euler", "symplectic_euler", "newtonian", "backward_euler",
                            "backward_euler_newton", "radau_iia", "abm3",
-                           "backward_euler_adaptive"})
+                           "backward_euler_adaptive", "quasistatic", "quasistatic_cholesky"})
     EXPECT_TRUE(integrators.count(name)) << name;
 }
 
@@ -188,11 +189,18 @@ TEST_F(BenchPipeline, StabilitySweepCriticalStepAndExtremeCases) {
       outputDir() / "extreme_cases.csv",
       {"case", "integrator", "model", "step", "outcome", "energy_growth", "inverted_max",
        "guard_recoveries", "guard_halvings", "guard_failures", "wall_seconds", "failure"});
-  std::set<std::string> cases;
+  std::set<std::string> cases, quasistaticCases;
   for (const auto& r : extremes) {
     EXPECT_TRUE(kOutcomes.count(r.at("outcome"))) << r.at("case");
     cases.insert(r.at("case"));
+    if (r.at("integrator") == "quasistatic") {
+      EXPECT_EQ(r.at("model"), "teran_muscle_inversion") << "the muscle tissue alone";
+      quasistaticCases.insert(r.at("case"));
+    }
   }
+  // The quasistatic solver runs every case but the impact, which is all inertia.
+  EXPECT_EQ(quasistaticCases, (std::set<std::string>{"compression_80pct", "forced_inversion",
+                                                      "twist_180deg", "sliver_elements"}));
   EXPECT_EQ(cases, (std::set<std::string>{"compression_80pct", "forced_inversion", "twist_180deg",
                                           "impact_20m_per_s", "sliver_elements"}));
 }
