@@ -3,6 +3,7 @@
 #include <Eigen/QR>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 
@@ -157,6 +158,11 @@ bool LandmarkFit::evaluate(const Eigen::VectorXd& theta, Eigen::VectorXd& y, Eig
 
 // raw: landmark positions before the cranium post-transform.
 bool LandmarkFit::jacobian(const Eigen::VectorXd& raw, Eigen::MatrixXd& J) {
+  using Clock = std::chrono::steady_clock;
+  const auto seconds = [](Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double>(b - a).count();
+  };
+  const Clock::time_point start = Clock::now();
   const Eigen::VectorXd& x = system_.state.x;
   const int n = system_.numDofs();
   J.setZero(raw.size(), parameterCount());
@@ -190,10 +196,28 @@ bool LandmarkFit::jacobian(const Eigen::VectorXd& raw, Eigen::MatrixXd& J) {
     rhs.col(c) = col;
   }
   system_.constrainMatrix(K);
-  const Eigen::SparseMatrix<double> Kc = K;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor(Kc);
-  if (factor.info() != Eigen::Success) return false;
-  const Eigen::MatrixXd dx = factor.solve(rhs) + known;
+  const Clock::time_point assembled = Clock::now();
+  // One factorisation for all columns: CHOLMOD's supernodal L L^T (its analysis kept between
+  // iterations), or Eigen's L D L^T where K_ff is not positive definite.
+  if (!jacobianFactor_) jacobianFactor_ = std::make_unique<CholeskyPreconditioner>(false);
+  Eigen::MatrixXd dx(n, rhs.cols());
+  Clock::time_point factored;
+  if (jacobianFactor_->factorNow(K)) {
+    factored = Clock::now();
+    Eigen::VectorXd column(n), solved(n);
+    for (int c = 0; c < rhs.cols(); ++c) {
+      column = rhs.col(c);
+      jacobianFactor_->apply(column, solved);
+      dx.col(c) = solved;
+    }
+  } else {
+    const Eigen::SparseMatrix<double> Kc = K;
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor(Kc);
+    if (factor.info() != Eigen::Success) return false;
+    factored = Clock::now();
+    dx = factor.solve(rhs);
+  }
+  dx += known;
   for (int c = 0; c < dx.cols(); ++c) J.col(c) = landmarkColumn(dx.col(c));
   if (params_.fitCranium) {
     const int at = activationCount() + jawColumns;
@@ -205,6 +229,8 @@ bool LandmarkFit::jacobian(const Eigen::VectorXd& raw, Eigen::MatrixXd& J) {
       }
     }
   }
+  jacobianCost_ = {seconds(start, assembled), seconds(assembled, factored),
+                   seconds(factored, Clock::now()), static_cast<int>(rhs.cols())};
   return true;
 }
 

@@ -30,26 +30,42 @@ const char* stopName(EquilibriumStop stop) {
 
 EquilibriumSolver::EquilibriumSolver(EquilibriumParams p) : params(p) {}
 
-double EquilibriumSolver::potential(const System& system, const Eigen::VectorXd& x) const {
-  if (!hasEnergy_) return std::numeric_limits<double>::quiet_NaN();
-  return system.potentialEnergy(x) - system.externalForce.dot(x);
-}
-
 double EquilibriumSolver::residualAt(const System& system, const Eigen::VectorXd& x,
-                                     Eigen::VectorXd& f) const {
-  system.computeForce(x, zeroVelocity_, f);
+                                     Eigen::VectorXd& f, double& potential,
+                                     EquilibriumReport& report) const {
+  // The force pass returns the models' energies (ForceModel::addForce).
+  const double energy = system.computeForce(x, zeroVelocity_, f);
+  ++report.forceEvaluations;
+  potential = hasEnergy_ ? energy - system.externalForce.dot(x)
+                         : std::numeric_limits<double>::quiet_NaN();
   system.zeroConstrained(f);
   return f.stableNorm();  // a body nearly at rest: squares that underflow
 }
 
-bool EquilibriumSolver::conjugateGradientSolve(const Preconditioner& M,
-                                               EquilibriumReport& report) {
-  const SolveSettings settings{params.linearTolerance, params.linearMaxIterations, 30};
+bool EquilibriumSolver::conjugateGradientSolve(const Preconditioner& M, EquilibriumReport& report,
+                                               int maxIterations, bool mustConverge) {
+  const SolveSettings settings{params.linearTolerance, maxIterations, 30};
   dx_.setZero(f_.size());
   const SolveReport solved = conjugateGradients(MatrixOperator(A_), f_, dx_, M, settings, krylov_);
   report.linearIterations += solved.iterations;
+  if (mustConverge && !solved.converged()) return false;
   // An unconverged solve still gives an inexact Newton direction; the line search judges it.
   return solved.outcome != SolveOutcome::kNonPositiveCurvature;
+}
+
+bool EquilibriumSolver::choleskyDirection(EquilibriumReport& report) {
+  if (!cholesky_) cholesky_ = std::make_unique<CholeskyPreconditioner>(false);
+  // The kept factor, while CG converges quickly with it to a descent direction: the same
+  // direction as with a new factor, to the linear tolerance.
+  if (params.refactorAbove > 0 && cholesky_->ready() && factoredRows_ == A_.rows() &&
+      conjugateGradientSolve(*cholesky_, report, params.refactorAbove, true) &&
+      f_.dot(dx_) > 0.0)
+    return true;
+  // Refused when -K is not positive definite: the caller's shifted solves take over.
+  if (!cholesky_->rebuildNow(A_)) return false;
+  ++report.factorizations;
+  factoredRows_ = A_.rows();
+  return conjugateGradientSolve(*cholesky_, report, params.linearMaxIterations);
 }
 
 void EquilibriumSolver::scaledForceDirection() {
@@ -73,10 +89,9 @@ bool EquilibriumSolver::newtonDirection(const System& system, const Eigen::Vecto
   jacobi_.setDiagonal(diagonalValues_);
 
   if (params.preconditioner == EquilibriumParams::Preconditioning::kCholesky) {
-    if (!cholesky_) cholesky_ = std::make_unique<CholeskyPreconditioner>(false);
-    // Refused when -K is not positive definite: the shifted solves below take over.
-    if (cholesky_->rebuildNow(A_) && conjugateGradientSolve(*cholesky_, report)) return true;
-  } else if (jacobi_.positive() && conjugateGradientSolve(jacobi_, report)) {
+    if (choleskyDirection(report)) return true;
+  } else if (jacobi_.positive() &&
+             conjugateGradientSolve(jacobi_, report, params.linearMaxIterations)) {
     return true;
   }
 
@@ -89,14 +104,21 @@ bool EquilibriumSolver::newtonDirection(const System& system, const Eigen::Vecto
       ++free;
     }
   meanDiagonal = free > 0 ? meanDiagonal / free : 1.0;
+  // A kept Cholesky factor (of an earlier, positive definite matrix) preconditions the shifted
+  // solves better than Jacobi; CG meets the non-positive curvature all the same.
+  const bool factored = params.preconditioner == EquilibriumParams::Preconditioning::kCholesky &&
+                        cholesky_->ready() && factoredRows_ == A_.rows();
   double applied = 0.0, mu = params.shiftFraction * meanDiagonal;
   for (int k = 0; k < params.maxShifts; ++k, mu *= 10.0) {
     for (int row = 0; row < A_.rows(); ++row)
       if (!system.isConstrained[row]) a[diagonal_[row]] += mu - applied;
     applied = mu;
     for (int row = 0; row < A_.rows(); ++row) diagonalValues_[row] = a[diagonal_[row]];
-    if (jacobi_.setDiagonal(diagonalValues_) && jacobi_.positive() &&
-        conjugateGradientSolve(jacobi_, report)) {
+    const bool jacobiUsable = jacobi_.setDiagonal(diagonalValues_) && jacobi_.positive();
+    if ((factored || jacobiUsable) &&
+        conjugateGradientSolve(factored ? static_cast<const Preconditioner&>(*cholesky_)
+                                        : jacobi_,
+                               report, params.linearMaxIterations)) {
       ++report.shiftedSolves;
       return true;
     }
@@ -106,17 +128,18 @@ bool EquilibriumSolver::newtonDirection(const System& system, const Eigen::Vecto
   return true;
 }
 
-bool EquilibriumSolver::lineSearch(const System& system, Eigen::VectorXd& x, double& residual) {
-  const double energy0 = potential(system, x);
+bool EquilibriumSolver::lineSearch(const System& system, Eigen::VectorXd& x, double& residual,
+                                   EquilibriumReport& report) {
+  const double energy0 = potential_;
   const double slope = f_.dot(dx_);  // -dPi/da at a = 0
   double step = 1.0;
   for (int k = 0; k <= params.maxLineSearchSteps; ++k, step *= 0.5) {
     trial_ = x + step * dx_;
-    const double r = residualAt(system, trial_, trialF_);
+    double energy;
+    const double r = residualAt(system, trial_, trialF_, energy, report);
     if (!std::isfinite(r)) continue;
     bool accepted;
     if (hasEnergy_) {
-      const double energy = potential(system, trial_);
       if (!std::isfinite(energy)) continue;
       // Energy differences below round-off: judged by the residual.
       const bool roundOff = std::abs(energy - energy0) <=
@@ -128,6 +151,7 @@ bool EquilibriumSolver::lineSearch(const System& system, Eigen::VectorXd& x, dou
     if (accepted) {
       x.swap(trial_);
       f_.swap(trialF_);
+      potential_ = energy;
       residual = r;
       return true;
     }
@@ -148,7 +172,7 @@ EquilibriumReport EquilibriumSolver::solve(const System& system, Eigen::VectorXd
   hasEnergy_ = std::all_of(system.models.begin(), system.models.end(),
                            [](const auto& m) { return m->hasEnergy(); });
   zeroVelocity_.setZero(x.size());
-  double residual = residualAt(system, x, f_);
+  double residual = residualAt(system, x, f_, potential_, report);
   report.initialResidual = report.residual = residual;
   report.residualHistory.push_back(residual);
   if (!std::isfinite(residual))
@@ -172,11 +196,11 @@ EquilibriumReport EquilibriumSolver::solve(const System& system, Eigen::VectorXd
       ++report.gradientSteps;
       scaledForceDirection();
     }
-    bool moved = lineSearch(system, x, residual);
+    bool moved = lineSearch(system, x, residual, report);
     if (!moved && !gradient) {
       ++report.gradientSteps;
       scaledForceDirection();
-      moved = lineSearch(system, x, residual);
+      moved = lineSearch(system, x, residual, report);
     }
     if (!moved)
       return stop(EquilibriumStop::kLineSearchFailed,

@@ -19,7 +19,10 @@ void registerQuasistatic(Registry& registry) {
             {"max_line_search", "halvings of a Newton step before it is given up (integer >= 0, "
                                 "default 30)"},
             {"preconditioner", "of the CG solves: jacobi (default) or cholesky (a sparse "
-                               "Cholesky factor of each Newton matrix)"}};
+                               "Cholesky factor of a Newton matrix)"},
+            {"refactor_above", "cholesky: the factor is kept across Newton iterations and "
+                               "frames while CG needs at most this many iterations with it "
+                               "(integer >= 0, default 20; 0: a new factor every iteration)"}};
   e.make = [](const YamlEntry& spec) -> std::unique_ptr<Integrator> {
     EquilibriumParams p;
     p.absoluteTolerance = spec.positive("abs_tolerance", p.absoluteTolerance);
@@ -28,6 +31,7 @@ void registerQuasistatic(Registry& registry) {
     p.linearTolerance = spec.positive("linear_tolerance", p.linearTolerance);
     p.linearMaxIterations = spec.integerAtLeast("linear_max_iterations", 1, p.linearMaxIterations);
     p.maxLineSearchSteps = spec.integerAtLeast("max_line_search", 0, p.maxLineSearchSteps);
+    p.refactorAbove = spec.integerAtLeast("refactor_above", 0, p.refactorAbove);
     if (spec.has("preconditioner"))
       p.preconditioner = spec["preconditioner"].choice({"jacobi", "cholesky"}) == "cholesky"
                              ? EquilibriumParams::Preconditioning::kCholesky

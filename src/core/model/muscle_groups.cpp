@@ -69,7 +69,8 @@ Mesh groupMesh(const Mesh& mesh, const MuscleGroup& group, int none) {
 MuscleGroupsModel::MuscleGroupsModel(const Mesh& mesh, const std::vector<Constants>& constants,
                                      std::vector<MuscleGroup> groups, const LawOptions& options)
     : groups_(checkedGroups(mesh, std::move(groups))),
-      passive_(mesh, withActivation(constants, 0.0), options) {
+      passive_(mesh, withActivation(constants, 0.0), options),
+      total_(passive_) {
   std::vector<Constants> active = activeTerms(constants);
   Constants none = active.empty() ? Constants{} : active.front();
   none.A = none.B = none.K = none.sigmaMax = none.activation = 0.0;
@@ -78,32 +79,25 @@ MuscleGroupsModel::MuscleGroupsModel(const Mesh& mesh, const std::vector<Constan
   const int noneId = static_cast<int>(active.size()) - 1;
   for (const MuscleGroup& group : groups_)
     active_.push_back(std::make_unique<Model>(groupMesh(mesh, group, noneId), active, options));
+  for (int i = 0; i < activationCount(); ++i) applyActivation(i);
+}
+
+void MuscleGroupsModel::applyActivation(int i) {
+  const double a = groups_[i].activation;
+  total_.editParameters(groups_[i].elements,
+                        [a](TeranMuscleLaw::Parameters& p) { p.k.activation = a; });
 }
 
 double MuscleGroupsModel::addForce(const Eigen::VectorXd& x, const Eigen::VectorXd&,
                                    Eigen::VectorXd& f) const {
-  double energy = addPassiveForce(x, f);
-  Eigen::VectorXd part;  // one buffer per evaluation, none per element
-  for (int i = 0; i < activationCount(); ++i) {
-    const double a = groups_[i].activation;
-    if (a == 0.0) continue;
-    if (part.size() != x.size()) part.resize(x.size());
-    part.setZero();
-    energy += a * addActiveForce(i, x, part);
-    f += a * part;
-  }
-  return energy;
+  return total_.addForce(x, x, f);  // the element model reads no velocity
 }
 
-double MuscleGroupsModel::energy(const Eigen::VectorXd& x) const {
-  double e = passive_.energy(x);
-  for (int i = 0; i < activationCount(); ++i)
-    if (groups_[i].activation != 0.0) e += groups_[i].activation * active_[i]->energy(x);
-  return e;
-}
+double MuscleGroupsModel::energy(const Eigen::VectorXd& x) const { return total_.energy(x); }
 
 void MuscleGroupsModel::addStiffness(const Eigen::VectorXd& x, double scale,
                                      const SparsePattern& pattern, SparseMatrix& K) const {
+  if (!passive_.options().psdProjection) return total_.addStiffness(x, scale, pattern, K);
   addPassiveStiffness(x, scale, pattern, K);
   for (int i = 0; i < activationCount(); ++i)
     if (groups_[i].activation != 0.0)
@@ -112,6 +106,7 @@ void MuscleGroupsModel::addStiffness(const Eigen::VectorXd& x, double scale,
 
 void MuscleGroupsModel::addStiffnessTimes(const Eigen::VectorXd& x, const Eigen::VectorXd& d,
                                           double scale, Eigen::VectorXd& out) const {
+  if (!passive_.options().psdProjection) return total_.addStiffnessTimes(x, d, scale, out);
   passive_.addStiffnessTimes(x, d, scale, out);
   for (int i = 0; i < activationCount(); ++i)
     if (groups_[i].activation != 0.0)
@@ -125,11 +120,13 @@ bool MuscleGroupsModel::needsStepUpdates() const {
 }
 
 void MuscleGroupsModel::beginStep(double t, const Eigen::VectorXd&, const Eigen::VectorXd&) {
-  for (MuscleGroup& g : groups_)
-    if (g.followsCurve) {
-      // The scene checks that the curve stays in [0, 1]; the clamp only removes round-off.
-      g.activation = std::min(1.0, std::max(0.0, g.curve.value(t)));
-    }
+  for (int i = 0; i < activationCount(); ++i) {
+    MuscleGroup& g = groups_[i];
+    if (!g.followsCurve) continue;
+    // The scene checks that the curve stays in [0, 1]; the clamp only removes round-off.
+    g.activation = std::min(1.0, std::max(0.0, g.curve.value(t)));
+    applyActivation(i);
+  }
 }
 
 void MuscleGroupsModel::setActivation(int i, double a) {
@@ -137,6 +134,7 @@ void MuscleGroupsModel::setActivation(int i, double a) {
   checkActivation(g.name, a);
   g.activation = a;
   g.followsCurve = false;
+  applyActivation(i);
 }
 
 int MuscleGroupsModel::groupIndex(const std::string& name) const {

@@ -28,6 +28,7 @@ integrator:
   linear_max_iterations: 300
   max_line_search: 12
   preconditioner: cholesky
+  refactor_above: 7
 )";
 
 using testutil::replaced;
@@ -46,6 +47,7 @@ TEST(QuasistaticScene, KeysReachTheSolver) {
   EXPECT_EQ(p.linearMaxIterations, 300);
   EXPECT_EQ(p.maxLineSearchSteps, 12);
   EXPECT_EQ(p.preconditioner, EquilibriumParams::Preconditioning::kCholesky);
+  EXPECT_EQ(p.refactorAbove, 7);
 }
 
 TEST(QuasistaticScene, EachMalformedKeyNamesFileLineAndKey) {
@@ -65,6 +67,10 @@ TEST(QuasistaticScene, EachMalformedKeyNamesFileLineAndKey) {
        "integrator.max_line_search"},
       {"unknown preconditioner", replaced(s, "preconditioner: cholesky", "preconditioner: amg"), 15,
        "integrator.preconditioner"},
+      {"negative refactor_above", replaced(s, "refactor_above: 7", "refactor_above: -1"), 16,
+       "integrator.refactor_above"},
+      {"fractional refactor_above", replaced(s, "refactor_above: 7", "refactor_above: 2.5"), 16,
+       "integrator.refactor_above"},
       {"misspelt key", replaced(s, "abs_tolerance: 1e-8", "abs_tolerence: 1e-8"), 9,
        "abs_tolerence"},
       {"a key of another integrator", replaced(s, "max_line_search: 12", "substeps: 2"), 14,

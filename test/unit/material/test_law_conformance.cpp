@@ -292,6 +292,39 @@ TEST(InversionHandling, InvertedGradientsGetAFiniteRestoringStress) {
   EXPECT_EQ(point.F, F);
 }
 
+// The test that lets lawPoint skip the SVD never passes a gradient with a singular value below
+// the threshold (random, stretched and nearly flat gradients, the threshold near their
+// smallest singular value or below), and it does pass gradients near the identity.
+TEST(InversionHandling, SvdIsSkippedOnlyWhereNoSingularValueIsBelowTheThreshold) {
+  std::mt19937 rng(19);
+  std::normal_distribution<double> n(0.0, 1.0);
+  std::uniform_real_distribution<double> ratio(0.05, 1.1);
+  int skipped = 0, kept = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
+    const double spread = trial % 3 == 0 ? 1.0 : trial % 3 == 1 ? 0.3 : 0.05;
+    for (int i = 0; i < 9; ++i) F.data()[i] += spread * n(rng);
+    if (trial % 5 == 0) F.col(trial % 3) *= 0.05;  // nearly flat
+    const RotationSvd svd = rotationSvd(F);
+    const double threshold = std::max(1e-3, std::abs(svd.sigma(2))) * ratio(rng);
+    if (singularValuesSurelyAbove(F, threshold)) {
+      ++skipped;
+      EXPECT_GE(svd.sigma(2), threshold) << "trial " << trial;
+      LawOptions options;
+      options.inversionThreshold = threshold;
+      const LawPoint point = lawPoint(F, options);
+      EXPECT_FALSE(point.clamped);
+      EXPECT_EQ(point.F, F);
+    } else {
+      ++kept;
+    }
+  }
+  EXPECT_GT(skipped, 100);
+  EXPECT_GT(kept, 100);
+  for (int trial = 0; trial < 100; ++trial)
+    EXPECT_TRUE(singularValuesSurelyAbove(randomGradient(rng, 0.1), 0.2));
+}
+
 // The volume law with r != 1 ("Adamss: Advanced Anisotropic Mass-Spring System", Eq. 2.101):
 // the exact stress P = 2 p (J - r) cof F, i.e. S = 2 p J (J - r) C^-1. The printed Eq. 2.100
 // has (2 E_kk - 1) where (2 E_kk + 1) belongs; here the stress is checked against the energy.

@@ -117,6 +117,36 @@ TEST(TeranMuscle, FibreStretchOptions) {
 }
 
 // Eq. 10 as written: psi(I) = 3 (A + B), so an element at rest has energy V0 3 (A + B).
+// The law's own tangent (one State for the nine differentials) is bitwise the nine
+// stressDifferential columns, for both fibre-stretch forms, active and passive.
+TEST(TeranMuscle, OwnTangentIsTheNineDifferentials) {
+  std::mt19937 rng(70);
+  std::normal_distribution<double> n(0.0, 0.2);
+  for (int trial = 0; trial < 40; ++trial) {
+    TeranMuscleLaw::Constants k;
+    k.deviatoricStretch = trial % 2 == 0;
+    k.activation = trial % 3 == 0 ? 0.0 : 0.7;
+    Eigen::Matrix3d F = Eigen::Matrix3d::Identity(), frame;
+    for (int i = 0; i < 9; ++i) F.data()[i] += n(rng);
+    frame = Eigen::Matrix3d::Identity() + 0.3 * Eigen::Matrix3d::Random();
+    const TeranMuscleLaw::Parameters p = TeranMuscleLaw::parameters(k, frame);
+    const Matrix9d A = TeranMuscleLaw::tangent(p, F);
+    for (int c = 0; c < 9; ++c) {
+      Eigen::Matrix3d dF = Eigen::Matrix3d::Zero();
+      dF(c % 3, c / 3) = 1.0;
+      const Eigen::Matrix3d dP = TeranMuscleLaw::stressDifferential(p, F, dF);
+      if (F.determinant() > 0.0) {
+        using Vector9d = Eigen::Matrix<double, 9, 1>;
+        const Vector9d column = A.col(c);
+        EXPECT_TRUE(column == Eigen::Map<const Vector9d>(dP.data())) << trial << ", " << c;
+      } else {
+        EXPECT_FALSE(A.allFinite());
+      }
+    }
+    EXPECT_EQ(lawTangent<TeranMuscleLaw>(p, F).allFinite(), A.allFinite());
+  }
+}
+
 TEST(TeranMuscle, EnergyAtRestIsTheConstant) {
   std::mt19937 rng(71);
   const Mesh mesh = randomTet(rng);

@@ -18,6 +18,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,14 @@ struct FitIteration {
   double cost = 0.0;      // 1/2 |r|^2 with the orthogonality rows
 };
 
+// Where the last Jacobian's wall time went (s): the stiffness assembly with the right sides,
+// the one factorisation of K_ff, and the solves for its columns (one per activation and jaw
+// parameter) with the landmark rows.
+struct JacobianCost {
+  double assembly = 0.0, factorization = 0.0, solves = 0.0;
+  int columns = 0;
+};
+
 struct FitResult {
   std::vector<FitIteration> iterations;
   double initialResidual = 0.0;  // RMS landmark distance at the start (m)
@@ -86,6 +95,7 @@ class LandmarkFit {
   bool evaluate(const Eigen::VectorXd& theta, Eigen::VectorXd& y, Eigen::MatrixXd* J = nullptr);
   const EquilibriumReport& equilibriumReport() const { return equilibrium_; }
   const std::string& failure() const { return failure_; }
+  const JacobianCost& lastJacobianCost() const { return jacobianCost_; }
 
   // Runs the fit from the current parameters; `onIteration` (may be empty) sees each step.
   template <class Callback>
@@ -133,6 +143,8 @@ class LandmarkFit {
   EquilibriumSolver solver_;
   EquilibriumReport equilibrium_;
   std::string failure_;  // why the last evaluate() failed
+  std::unique_ptr<CholeskyPreconditioner> jacobianFactor_;  // kept: one symbolic analysis
+  JacobianCost jacobianCost_;
 };
 
 template <class Callback>

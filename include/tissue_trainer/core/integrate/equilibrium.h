@@ -7,7 +7,11 @@
 // Newton-Raphson on the assembled stiffness: each iteration solves (-K) dx = f over the free
 // DOFs (K = df/dx; constrained rows and columns made identity, their right side zero) by
 // preconditioned conjugate gradients (solve/krylov.h) with the Jacobi or the sparse Cholesky
-// preconditioner of the implicit integrators. When -K is not positive definite (CG meets
+// preconditioner of the implicit integrators. The Cholesky factor is kept across Newton
+// iterations and across solves (frames): CG on the current -K, preconditioned by the factor of
+// an earlier one, converges to the same linear tolerance, and a new factor is made only when
+// that CG needs more than refactorAbove iterations or does not give a descent direction (0:
+// a new factor every Newton iteration). When -K is not positive definite (CG meets
 // non-positive curvature, or Jacobi a non-positive diagonal, or the Cholesky factorisation is
 // refused), the solve is repeated on -K + mu I with mu = shiftFraction * mean |diag(-K)|,
 // multiplied by 10 until CG succeeds (Levenberg-Marquardt); after maxShifts such tries the
@@ -15,7 +19,8 @@
 // to project the models' element tangents to PSD is the models' own option.
 //
 // The step is damped by backtracking (halving) on the total potential energy
-// Pi(x) = sum of the models' energies - f_ext . x (Armijo's condition,
+// Pi(x) = sum of the models' energies - f_ext . x (the energies the force pass returns, so a
+// trial costs one force evaluation; Armijo's condition,
 // Pi(x + a dx) <= Pi(x) - c a f . dx), or, when a model has no energy, on the residual norm
 // (|f(x + a dx)| <= (1 - c a) |f(x)|). Near the solution the energy change can fall below
 // its round-off; a step whose energy change is within round-off and whose residual is smaller
@@ -45,6 +50,9 @@ struct EquilibriumParams {
   Preconditioning preconditioner = Preconditioning::kJacobi;
   int maxLineSearchSteps = 30;  // halvings of a Newton step
   double armijo = 1e-4;         // c of the sufficient-decrease condition
+  // Cholesky: CG iterations above which the kept factor is replaced by one of the current
+  // matrix (0: a new factor every Newton iteration).
+  int refactorAbove = 20;
   double shiftFraction = 1e-3;  // first mu of the shifted solve, of mean |diag(-K)|
   int maxShifts = 8;            // shifted tries before the gradient step
 };
@@ -64,6 +72,8 @@ struct EquilibriumReport {
   int linearIterations = 0;  // CG iterations over all solves (shifted ones included)
   int shiftedSolves = 0;     // Newton steps whose matrix needed a shift
   int gradientSteps = 0;     // Newton steps that fell back to the scaled force
+  int forceEvaluations = 0;  // force passes: the start and every line-search trial
+  int factorizations = 0;    // Cholesky factorisations made
   double initialResidual = 0.0;  // |f_free| at the warm start (N)
   double residual = 0.0;         // |f_free| at the end (N)
   std::vector<double> residualHistory;  // |f_free| at the start and after every step
@@ -83,24 +93,32 @@ class EquilibriumSolver {
   EquilibriumParams params;
 
  private:
-  // Total potential energy (or NaN when a model has none).
-  double potential(const System& system, const Eigen::VectorXd& x) const;
-  // Free residual f (constrained entries zero) at x; its 2-norm.
-  double residualAt(const System& system, const Eigen::VectorXd& x, Eigen::VectorXd& f) const;
+  // Free residual f (constrained entries zero) at x; its 2-norm. `potential` gets the total
+  // potential energy there (NaN when a model has none).
+  double residualAt(const System& system, const Eigen::VectorXd& x, Eigen::VectorXd& f,
+                    double& potential, EquilibriumReport& report) const;
   // The Newton direction dx_ from -K dx = f_ at x (shifted, or the scaled force, where -K is
   // not positive definite); false when the stiffness is not finite.
   bool newtonDirection(const System& system, const Eigen::VectorXd& x, EquilibriumReport& report);
   void scaledForceDirection();  // dx_ = f_ / |diag(A_)| (free DOFs)
-  // CG on A_ (with the current diagonal shift); false on non-positive curvature.
-  bool conjugateGradientSolve(const Preconditioner& M, EquilibriumReport& report);
+  // CG on A_ (with the current diagonal shift), at most maxIterations; false on non-positive
+  // curvature, or when it stops unconverged and `mustConverge`.
+  bool conjugateGradientSolve(const Preconditioner& M, EquilibriumReport& report,
+                              int maxIterations, bool mustConverge = false);
+  // dx_ by CG preconditioned with the kept Cholesky factor (within refactorAbove iterations, a
+  // descent direction) or else with a new one; false when -K cannot be factored.
+  bool choleskyDirection(EquilibriumReport& report);
   // Backtracking along dx_ from x; false when no length was accepted.
-  bool lineSearch(const System& system, Eigen::VectorXd& x, double& residual);
+  bool lineSearch(const System& system, Eigen::VectorXd& x, double& residual,
+                  EquilibriumReport& report);
 
   SparseMatrix A_;
   std::vector<int> diagonal_;  // offsets of the diagonal entries in A_'s values
   Eigen::VectorXd f_, trialF_, dx_, trial_, diagonalValues_, zeroVelocity_;
   JacobiPreconditioner jacobi_;
   std::unique_ptr<CholeskyPreconditioner> cholesky_;
+  Eigen::Index factoredRows_ = -1;  // of the kept factor's matrix
+  double potential_ = 0.0;          // at the current x (with f_)
   KrylovWorkspace krylov_;
   bool hasEnergy_ = true;
 };

@@ -19,6 +19,8 @@
 // The tangent as a 9 x 9 matrix acts on vec(F), the columns of F stacked (Eigen's storage
 // order): vec(dP) = A vec(dF), entry (i + 3 j, k + 3 l) = d P_ij / d F_kl.
 #include <Eigen/Core>
+#include <type_traits>
+#include <utility>
 
 namespace tt {
 
@@ -35,9 +37,18 @@ struct LawOptions {
   bool psdProjection = false;
 };
 
-// The 9 x 9 tangent of law L at F from nine differentials (one per unit dF).
+// Whether law L has its own static tangent(p, F) (the same matrix, computed more cheaply).
+template <class Law, class = void>
+struct HasOwnTangent : std::false_type {};
+template <class Law>
+struct HasOwnTangent<Law, std::void_t<decltype(Law::tangent(
+                              std::declval<const typename Law::Parameters&>(),
+                              std::declval<const Eigen::Matrix3d&>()))>> : std::true_type {};
+
+// The 9 x 9 tangent of law L at F from nine differentials (one per unit dF), or the law's own.
 template <class Law>
 Matrix9d lawTangent(const typename Law::Parameters& p, const Eigen::Matrix3d& F) {
+  if constexpr (HasOwnTangent<Law>::value) return Law::tangent(p, F);
   Matrix9d A;
   for (int c = 0; c < 9; ++c) {
     Eigen::Matrix3d dF = Eigen::Matrix3d::Zero();

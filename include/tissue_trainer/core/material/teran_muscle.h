@@ -133,21 +133,24 @@ struct TeranMuscleLaw {
                                             const Eigen::Matrix3d& dF) {
     const double J = F.determinant();
     if (!(J > 0.0)) return Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
+    return differential(p, State(p, F, J), F, dF);
+  }
+
+  // The 9 x 9 tangent (column c: the differential for the unit dF(c % 3, c / 3)) with the nine
+  // differentials sharing one State: bitwise the columns of stressDifferential.
+  static Eigen::Matrix<double, 9, 9> tangent(const Parameters& p, const Eigen::Matrix3d& F) {
+    const double J = F.determinant();
+    if (!(J > 0.0))
+      return Eigen::Matrix<double, 9, 9>::Constant(std::numeric_limits<double>::quiet_NaN());
     const State s(p, F, J);
-    const double t = (s.Finv * dF).trace();  // dJ / J
-    const Eigen::Matrix3d dFinvT = -s.FinvT * dF.transpose() * s.FinvT;
-    const double dtrC = 2.0 * (F.array() * dF.array()).sum();
-    const Eigen::Matrix3d dC = dF.transpose() * F + F.transpose() * dF;
-    const Eigen::Matrix3d dG = 2.0 * (dtrC * F + s.trC * dF - dF * s.C - F * dC);
-    const double dI2 = (s.G.array() * dF.array()).sum();
-    const Eigen::Matrix3d PA = F - s.trC / 3.0 * s.FinvT;
-    const Eigen::Matrix3d PB = s.G - 4.0 / 3.0 * s.I2 * s.FinvT;
-    Eigen::Matrix3d dP =
-        2.0 * p.k.A * s.j2 * (-2.0 / 3.0 * t * PA + dF - dtrC / 3.0 * s.FinvT - s.trC / 3.0 * dFinvT);
-    dP += p.k.B * s.j4 *
-          (-4.0 / 3.0 * t * PB + dG - 4.0 / 3.0 * (dI2 * s.FinvT + s.I2 * dFinvT));
-    dP += p.k.K * (t * s.FinvT + s.lnJ * dFinvT);
-    return dP + fibreDifferential(p, s, dF, t, dFinvT);
+    Eigen::Matrix<double, 9, 9> A;
+    for (int c = 0; c < 9; ++c) {
+      Eigen::Matrix3d dF = Eigen::Matrix3d::Zero();
+      dF(c % 3, c / 3) = 1.0;
+      const Eigen::Matrix3d dP = differential(p, s, F, dF);
+      A.col(c) = Eigen::Map<const Eigen::Matrix<double, 9, 1>>(dP.data());
+    }
+    return A;
   }
 
  private:
@@ -180,6 +183,25 @@ struct TeranMuscleLaw {
       if (p.k.deviatoricStretch) D -= lam / 3.0 * FinvT;
     }
   };
+
+  // dP for dF at F, with the State of F.
+  static Eigen::Matrix3d differential(const Parameters& p, const State& s,
+                                      const Eigen::Matrix3d& F, const Eigen::Matrix3d& dF) {
+    const double t = (s.Finv * dF).trace();  // dJ / J
+    const Eigen::Matrix3d dFinvT = -s.FinvT * dF.transpose() * s.FinvT;
+    const double dtrC = 2.0 * (F.array() * dF.array()).sum();
+    const Eigen::Matrix3d dC = dF.transpose() * F + F.transpose() * dF;
+    const Eigen::Matrix3d dG = 2.0 * (dtrC * F + s.trC * dF - dF * s.C - F * dC);
+    const double dI2 = (s.G.array() * dF.array()).sum();
+    const Eigen::Matrix3d PA = F - s.trC / 3.0 * s.FinvT;
+    const Eigen::Matrix3d PB = s.G - 4.0 / 3.0 * s.I2 * s.FinvT;
+    Eigen::Matrix3d dP =
+        2.0 * p.k.A * s.j2 * (-2.0 / 3.0 * t * PA + dF - dtrC / 3.0 * s.FinvT - s.trC / 3.0 * dFinvT);
+    dP += p.k.B * s.j4 *
+          (-4.0 / 3.0 * t * PB + dG - 4.0 / 3.0 * (dI2 * s.FinvT + s.I2 * dFinvT));
+    dP += p.k.K * (t * s.FinvT + s.lnJ * dFinvT);
+    return dP + fibreDifferential(p, s, dF, t, dFinvT);
+  }
 
   // d(tau D) = dtau dlam D + tau dD.
   static Eigen::Matrix3d fibreDifferential(const Parameters& p, const State& s,

@@ -88,6 +88,14 @@ class HyperelasticModel final : public ForceModel {
     product(hexes_, x, d, scale, out);
   }
 
+  // Calls edit(parameters) on the law parameters of each listed element (mesh numbering: tets,
+  // then hexes), e.g. to set a muscle's activation without rebuilding the model.
+  template <class Edit>
+  void editParameters(const std::vector<int>& elements, const Edit& edit) {
+    const int tets = static_cast<int>(tets_.law.size());
+    for (int e : elements) edit(e < tets ? tets_.law.at(e) : hexes_.law.at(e - tets));
+  }
+
  private:
   template <int N>
   static NodeMatrix<N> relativeNodes(const Eigen::VectorXd& x, const std::array<int, N>& nodes) {

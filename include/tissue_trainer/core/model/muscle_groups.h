@@ -10,11 +10,14 @@
 // Phi_a(lam) on the elements of group i. Each part is its own element model over the whole mesh
 // (in part i the elements outside group i carry a zero law, so that the element numbering is
 // the one the system's sparse pattern places stiffness blocks by): f_i is evaluated from the
-// active term alone, never as a difference of two forces. A force evaluation costs one pass
-// over the mesh plus one per group with a nonzero activation. With inversion handling all
-// parts are taken at the same clamped F, where the law is still linear in alpha; with PSD
+// active term alone, never as a difference of two forces. The total force, energy and
+// stiffness are evaluated in one pass over the mesh by a third element model whose elements
+// carry their group's activation (the law at alpha = a_i, equal to f_0 + a_i f_i to
+// round-off), kept up to date when an activation changes. With inversion handling all parts
+// are taken at the same clamped F, where the law is still linear in alpha; with PSD
 // projection each part is projected on its own (their sum is then PSD too, but it is not the
-// projection of the sum).
+// projection of the sum), so the total stiffness is then the sum of the parts' (one pass
+// per group with a nonzero activation).
 #include <memory>
 #include <string>
 #include <vector>
@@ -80,8 +83,12 @@ class MuscleGroupsModel final : public ActivatedForceModel {
  private:
   using Model = HyperelasticModel<TeranMuscleLaw>;
 
+  // Writes group i's activation into the elements of total_.
+  void applyActivation(int i);
+
   std::vector<MuscleGroup> groups_;
   Model passive_;
+  Model total_;  // every element at its group's activation
   std::vector<std::unique_ptr<Model>> active_;  // one per group, over its elements only
 };
 
