@@ -24,6 +24,7 @@ const char* stopName(EquilibriumStop stop) {
     case EquilibriumStop::kLineSearchFailed: return "line search failed";
     case EquilibriumStop::kNonFiniteForce: return "non-finite force";
     case EquilibriumStop::kNoStiffness: return "no stiffness";
+    case EquilibriumStop::kRecoveryFailed: return "recovery failed";
   }
   return "unknown";
 }
@@ -161,6 +162,13 @@ EquilibriumReport EquilibriumSolver::solve(const System& system, Eigen::VectorXd
                   "equilibrium: no convergence in " + std::to_string(params.maxNewtonIterations) +
                       " Newton iterations (residual " + number(residual) + " N, tolerance " +
                       number(target) + " N)");
+    if (recovery_.wanted(system, params, x, report) &&
+        !recovery_.run(system, params, target, x, f_, residual, report))
+      return stop(EquilibriumStop::kRecoveryFailed,
+                  "equilibrium: elements still inverted after " +
+                      std::to_string(report.pseudoTimeSteps) + " pseudo-time steps (residual " +
+                      number(residual) + " N, tolerance " + number(target) + " N)");
+    if (residual <= target) break;
     if (!newtonDirection(system, x, report))
       return stop(EquilibriumStop::kNonFiniteForce,
                   "equilibrium: non-finite stiffness at Newton iteration " +
@@ -178,11 +186,14 @@ EquilibriumReport EquilibriumSolver::solve(const System& system, Eigen::VectorXd
       scaledForceDirection();
       moved = lineSearch(system, x, residual);
     }
-    if (!moved)
+    if (!moved) {
+      if (recovery_.run(system, params, target, x, f_, residual, report)) continue;
       return stop(EquilibriumStop::kLineSearchFailed,
                   "equilibrium: the line search found no decrease at Newton iteration " +
                       std::to_string(report.newtonIterations + 1) + " (residual " +
-                      number(residual) + " N, tolerance " + number(target) + " N)");
+                      number(residual) + " N, tolerance " + number(target) + " N, " +
+                      std::to_string(report.pseudoTimeSteps) + " pseudo-time steps after it)");
+    }
     ++report.newtonIterations;
     report.residual = residual;
     report.residualHistory.push_back(residual);

@@ -18,6 +18,9 @@ void registerQuasistatic(Registry& registry) {
                                       "2000)"},
             {"max_line_search", "halvings of a Newton step before it is given up (integer >= 0, "
                                 "default 30)"},
+            {"max_pseudo_time_steps", "pseudo-time steps per frame when a Newton step finds no "
+                                      "decrease, e.g. from inverted elements (integer >= 0, "
+                                      "default 200; 0 fails the frame there)"},
             {"preconditioner", "of the CG solves: jacobi (default) or cholesky (a sparse "
                                "Cholesky factor of each Newton matrix)"}};
   e.make = [](const YamlEntry& spec) -> std::unique_ptr<Integrator> {
@@ -28,6 +31,7 @@ void registerQuasistatic(Registry& registry) {
     p.linearTolerance = spec.positive("linear_tolerance", p.linearTolerance);
     p.linearMaxIterations = spec.integerAtLeast("linear_max_iterations", 1, p.linearMaxIterations);
     p.maxLineSearchSteps = spec.integerAtLeast("max_line_search", 0, p.maxLineSearchSteps);
+    p.maxPseudoTimeSteps = spec.integerAtLeast("max_pseudo_time_steps", 0, p.maxPseudoTimeSteps);
     if (spec.has("preconditioner"))
       p.preconditioner = spec["preconditioner"].choice({"jacobi", "cholesky"}) == "cholesky"
                              ? EquilibriumParams::Preconditioning::kCholesky

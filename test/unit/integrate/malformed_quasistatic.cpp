@@ -28,6 +28,7 @@ integrator:
   linear_max_iterations: 300
   max_line_search: 12
   preconditioner: cholesky
+  max_pseudo_time_steps: 40
 )";
 
 using testutil::replaced;
@@ -46,6 +47,7 @@ TEST(QuasistaticScene, KeysReachTheSolver) {
   EXPECT_EQ(p.linearMaxIterations, 300);
   EXPECT_EQ(p.maxLineSearchSteps, 12);
   EXPECT_EQ(p.preconditioner, EquilibriumParams::Preconditioning::kCholesky);
+  EXPECT_EQ(p.maxPseudoTimeSteps, 40);
 }
 
 TEST(QuasistaticScene, EachMalformedKeyNamesFileLineAndKey) {
@@ -65,6 +67,15 @@ TEST(QuasistaticScene, EachMalformedKeyNamesFileLineAndKey) {
        "integrator.max_line_search"},
       {"unknown preconditioner", replaced(s, "preconditioner: cholesky", "preconditioner: amg"), 15,
        "integrator.preconditioner"},
+      {"negative pseudo-time steps",
+       replaced(s, "max_pseudo_time_steps: 40", "max_pseudo_time_steps: -3"), 16,
+       "integrator.max_pseudo_time_steps"},
+      {"fractional pseudo-time steps",
+       replaced(s, "max_pseudo_time_steps: 40", "max_pseudo_time_steps: 1.5"), 16,
+       "integrator.max_pseudo_time_steps"},
+      {"misspelt pseudo-time key",
+       replaced(s, "max_pseudo_time_steps: 40", "max_pseudotime_steps: 40"), 16,
+       "max_pseudotime_steps"},
       {"misspelt key", replaced(s, "abs_tolerance: 1e-8", "abs_tolerence: 1e-8"), 9,
        "abs_tolerence"},
       {"a key of another integrator", replaced(s, "max_line_search: 12", "substeps: 2"), 14,
