@@ -79,9 +79,11 @@ bool PseudoTimeRecovery::stepsLeft(const EquilibriumParams& params,
 }
 
 int PseudoTimeRecovery::invertedElements(const System& system, const Eigen::VectorXd& x) {
-  if (checkedMesh_ != &system.mesh) {
+  const int elements = system.mesh.numTets() + system.mesh.numHexes();
+  if (checkedMesh_ != &system.mesh || checkedElements_ != elements) {
     corruptCheck_ = CorruptElementCheck(system.mesh, HexSplit::kSix);
     checkedMesh_ = &system.mesh;
+    checkedElements_ = elements;
   }
   if (corruptCheck_.empty()) return 0;
   const Eigen::Map<const Eigen::Matrix3Xd> nodes(x.data(), 3, system.numNodes());
@@ -113,20 +115,24 @@ bool PseudoTimeRecovery::run(const System& system, const EquilibriumParams& para
     if (!(weight_[i] > 0.0)) weight_[i] = meanMass;
 
   double tau = 0.0;
+  bool moved = true;  // the matrix is assembled anew only where a step was taken
   while (stepsLeft(params, report)) {
-    double meanDiagonal = 0.0;
-    if (!assemble(system, x, meanDiagonal)) return false;
-    // Without stiffness the steps are the masses' alone: 1 N/m stands in for its scale.
-    if (!(meanDiagonal > 0.0)) meanDiagonal = 1.0;
-    if (tau == 0.0) tau = meanMass / (kInitialRatio * meanDiagonal);
-    if (meanMass / tau <= kHandOff * meanDiagonal && invertedElements(system, x) == 0)
-      return true;
-    if (!tryStep(system, params, tau, x, f, residual, report)) {
+    if (moved) {
+      double meanDiagonal = 0.0;
+      if (!assemble(system, x, meanDiagonal)) return false;
+      // Without stiffness the steps are the masses' alone: 1 N/m stands in for its scale.
+      if (!(meanDiagonal > 0.0)) meanDiagonal = 1.0;
+      if (tau == 0.0) tau = meanMass / (params.pseudoTimeInitialRatio * meanDiagonal);
+      if (meanMass / tau <= kHandOff * meanDiagonal && invertedElements(system, x) == 0)
+        return true;
+    }
+    moved = tryStep(system, params, tau, x, f, residual, report);
+    if (!moved) {
       ++report.rejectedPseudoTimeSteps;
       tau *= 0.25;
-      continue;
+    } else if (residual <= target) {
+      return true;
     }
-    if (residual <= target) return true;
   }
   return false;
 }

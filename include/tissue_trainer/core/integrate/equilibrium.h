@@ -57,6 +57,8 @@ struct EquilibriumParams {
   // Pseudo-time steps per solve where elements are inverted or the line search fails (0:
   // none; Newton goes on from inverted states and fails where the line search does).
   int maxPseudoTimeSteps = 200;
+  // Mass term of the first pseudo-time step, of the mean stiffness diagonal (PseudoTimeRecovery).
+  double pseudoTimeInitialRatio = 1e-3;
 };
 
 enum class EquilibriumStop {
@@ -88,29 +90,28 @@ struct EquilibriumReport {
 };
 
 // Pseudo-transient continuation (C. T. Kelley and D. E. Keyes, "Convergence analysis of
-// pseudo-transient continuation", SIAM J. Numer. Anal. 35, 1998, with their "switched
-// evolution relaxation" step length), for states Newton's line search cannot leave: damped
+// pseudo-transient continuation", SIAM J. Numer. Anal. 35, 1998; the step length by the
+// "switched evolution relaxation" analysed there) for the states Newton cannot leave: damped
 // implicit steps
 //   (M / tau - K) dx = f(x),   x <- x + dx,
 // with M the lumped masses of the free DOFs (the mean free mass where a DOF has none): a
 // backward Euler step of length h = sqrt(tau) from rest whose velocity is all damped away,
-// what brings an inverted body back under backward Euler. The first tau makes the mass term
-// kInitialRatio of the stiffness, mean M / tau = kInitialRatio mean |diag(-K)|: a Newton step
-// kept definite and short where K is nearly singular, but taken whatever the energy does (at
-// a clamped element of material/law_point.h the force is not the energy's gradient) as long
-// as the force stays finite, CG meets no non-positive curvature and the residual does not
-// grow more than kRejectGrowth-fold; otherwise the step is redone with tau / 4 (counted in
+// what brings an inverted body back under backward Euler. The first tau makes the mass term a
+// small part of the stiffness, mean M / tau = params.pseudoTimeInitialRatio mean |diag(-K)|:
+// a Newton step kept definite where K is nearly singular, and taken whatever the energy does
+// (at a clamped element of material/law_point.h the force is not the energy's gradient) as
+// long as the force stays finite, CG meets no non-positive curvature and the residual does
+// not grow more than kRejectGrowth-fold; otherwise the step is redone with tau / 4 (counted in
 // rejectedPseudoTimeSteps). Each accepted step multiplies tau by |f_before| / |f_after|, by
 // kGrowth at most and 1 / kGrowth at least. Back to Newton once no element is inverted and
 // mean M / tau <= kHandOff mean |diag(-K)| (the steps have become Newton's).
 //
-// The steps are only as long as the problem needs: started with a large mass term (small
-// steps, close to the overdamped flow) a fully inverted muscle block settles in another,
-// folded equilibrium of higher energy; started near Newton it returns to its rest shape
-// (docs/solvers.md, "Inverted elements").
+// Why near Newton: started with a large mass term (short steps, close to the overdamped flow)
+// a fully inverted muscle block settles in another, folded equilibrium of higher energy;
+// started with a ratio from 1e-8 to 1e-2 it returns to its rest shape (docs/solvers.md,
+// "Inverted elements").
 class PseudoTimeRecovery {
  public:
-  static constexpr double kInitialRatio = 1e-3;
   static constexpr double kGrowth = 10.0;
   static constexpr double kRejectGrowth = 100.0;
   static constexpr double kHandOff = 1e-6;
@@ -151,6 +152,7 @@ class PseudoTimeRecovery {
   KrylovWorkspace krylov_;
   CorruptElementCheck corruptCheck_;
   const Mesh* checkedMesh_ = nullptr;  // the mesh corruptCheck_ was built for
+  int checkedElements_ = 0;            // and its number of tets and hexes then
 };
 
 // Keeps the matrices, vectors and preconditioners between solves (no allocation once sized).
