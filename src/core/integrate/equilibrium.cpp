@@ -24,6 +24,7 @@ const char* stopName(EquilibriumStop stop) {
     case EquilibriumStop::kLineSearchFailed: return "line search failed";
     case EquilibriumStop::kNonFiniteForce: return "non-finite force";
     case EquilibriumStop::kNoStiffness: return "no stiffness";
+    case EquilibriumStop::kRecoveryFailed: return "recovery failed";
   }
   return "unknown";
 }
@@ -159,6 +160,15 @@ bool EquilibriumSolver::lineSearch(const System& system, Eigen::VectorXd& x, dou
   return false;
 }
 
+// The line search compares energies with the one kept from the last force pass; the
+// pseudo-time steps move x without it.
+double EquilibriumSolver::potentialAfterRecovery(const System& system, const Eigen::VectorXd& x,
+                                                 EquilibriumReport& report) {
+  double potential = 0.0;
+  residualAt(system, x, f_, potential, report);
+  return potential;
+}
+
 EquilibriumReport EquilibriumSolver::solve(const System& system, Eigen::VectorXd& x) {
   EquilibriumReport report;
   const auto stop = [&report](EquilibriumStop why, std::string text) {
@@ -185,6 +195,15 @@ EquilibriumReport EquilibriumSolver::solve(const System& system, Eigen::VectorXd
                   "equilibrium: no convergence in " + std::to_string(params.maxNewtonIterations) +
                       " Newton iterations (residual " + number(residual) + " N, tolerance " +
                       number(target) + " N)");
+    if (recovery_.wanted(system, params, x, report)) {
+      if (!recovery_.run(system, params, target, x, f_, residual, report))
+        return stop(EquilibriumStop::kRecoveryFailed,
+                    "equilibrium: elements still inverted after " +
+                        std::to_string(report.pseudoTimeSteps) + " pseudo-time steps (residual " +
+                        number(residual) + " N, tolerance " + number(target) + " N)");
+      potential_ = potentialAfterRecovery(system, x, report);
+    }
+    if (residual <= target) break;
     if (!newtonDirection(system, x, report))
       return stop(EquilibriumStop::kNonFiniteForce,
                   "equilibrium: non-finite stiffness at Newton iteration " +
@@ -202,11 +221,17 @@ EquilibriumReport EquilibriumSolver::solve(const System& system, Eigen::VectorXd
       scaledForceDirection();
       moved = lineSearch(system, x, residual, report);
     }
-    if (!moved)
+    if (!moved) {
+      if (recovery_.run(system, params, target, x, f_, residual, report)) {
+        potential_ = potentialAfterRecovery(system, x, report);
+        continue;
+      }
       return stop(EquilibriumStop::kLineSearchFailed,
                   "equilibrium: the line search found no decrease at Newton iteration " +
                       std::to_string(report.newtonIterations + 1) + " (residual " +
-                      number(residual) + " N, tolerance " + number(target) + " N)");
+                      number(residual) + " N, tolerance " + number(target) + " N, " +
+                      std::to_string(report.pseudoTimeSteps) + " pseudo-time steps after it)");
+    }
     ++report.newtonIterations;
     report.residual = residual;
     report.residualHistory.push_back(residual);

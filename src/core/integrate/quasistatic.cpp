@@ -23,7 +23,8 @@ StepAttempt QuasistaticIntegrator::attempt(System& system, const StepContext& st
   last_ = solver_.solve(system, x_);
   report.newtonIterations += last_.newtonIterations;
   report.linearIterations += last_.linearIterations;
-  report.jacobians += last_.newtonIterations;
+  report.jacobians +=
+      last_.newtonIterations + last_.pseudoTimeSteps + last_.rejectedPseudoTimeSteps;
   StepAttempt out;
   out.measure.iterations = last_.newtonIterations;
   if (!last_.converged()) {

@@ -18,6 +18,9 @@ void registerQuasistatic(Registry& registry) {
                                       "2000)"},
             {"max_line_search", "halvings of a Newton step before it is given up (integer >= 0, "
                                 "default 30)"},
+            {"max_pseudo_time_steps", "pseudo-time steps per frame when a Newton step finds no "
+                                      "decrease, e.g. from inverted elements (integer >= 0, "
+                                      "default 200; 0 fails the frame there)"},
             {"preconditioner", "of the CG solves: jacobi (default) or cholesky (a sparse "
                                "Cholesky factor of a Newton matrix)"},
             {"refactor_above", "cholesky: the factor is kept across Newton iterations and "
@@ -32,6 +35,7 @@ void registerQuasistatic(Registry& registry) {
     p.linearMaxIterations = spec.integerAtLeast("linear_max_iterations", 1, p.linearMaxIterations);
     p.maxLineSearchSteps = spec.integerAtLeast("max_line_search", 0, p.maxLineSearchSteps);
     p.refactorAbove = spec.integerAtLeast("refactor_above", 0, p.refactorAbove);
+    p.maxPseudoTimeSteps = spec.integerAtLeast("max_pseudo_time_steps", 0, p.maxPseudoTimeSteps);
     if (spec.has("preconditioner"))
       p.preconditioner = spec["preconditioner"].choice({"jacobi", "cholesky"}) == "cholesky"
                              ? EquilibriumParams::Preconditioning::kCholesky

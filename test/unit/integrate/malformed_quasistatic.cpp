@@ -29,6 +29,7 @@ integrator:
   max_line_search: 12
   preconditioner: cholesky
   refactor_above: 7
+  max_pseudo_time_steps: 40
 )";
 
 using testutil::replaced;
@@ -48,6 +49,7 @@ TEST(QuasistaticScene, KeysReachTheSolver) {
   EXPECT_EQ(p.maxLineSearchSteps, 12);
   EXPECT_EQ(p.preconditioner, EquilibriumParams::Preconditioning::kCholesky);
   EXPECT_EQ(p.refactorAbove, 7);
+  EXPECT_EQ(p.maxPseudoTimeSteps, 40);
 }
 
 TEST(QuasistaticScene, EachMalformedKeyNamesFileLineAndKey) {
@@ -71,6 +73,15 @@ TEST(QuasistaticScene, EachMalformedKeyNamesFileLineAndKey) {
        "integrator.refactor_above"},
       {"fractional refactor_above", replaced(s, "refactor_above: 7", "refactor_above: 2.5"), 16,
        "integrator.refactor_above"},
+      {"negative pseudo-time steps",
+       replaced(s, "max_pseudo_time_steps: 40", "max_pseudo_time_steps: -3"), 17,
+       "integrator.max_pseudo_time_steps"},
+      {"fractional pseudo-time steps",
+       replaced(s, "max_pseudo_time_steps: 40", "max_pseudo_time_steps: 1.5"), 17,
+       "integrator.max_pseudo_time_steps"},
+      {"misspelt pseudo-time key",
+       replaced(s, "max_pseudo_time_steps: 40", "max_pseudotime_steps: 40"), 17,
+       "max_pseudotime_steps"},
       {"misspelt key", replaced(s, "abs_tolerance: 1e-8", "abs_tolerence: 1e-8"), 9,
        "abs_tolerence"},
       {"a key of another integrator", replaced(s, "max_line_search: 12", "substeps: 2"), 14,

@@ -26,6 +26,12 @@
 // its round-off; a step whose energy change is within round-off and whose residual is smaller
 // is then taken as well.
 //
+// When no step length is accepted (with the threshold-clamped inversion handling of
+// material/law_point.h the force at a clamped element is not the energy's gradient, and a
+// fully inverted body gets stuck here), or when an element is inverted at the start of a
+// Newton iteration, the solve goes on with the pseudo-time steps of PseudoTimeRecovery below
+// and returns to Newton once no element is inverted and those steps have become Newton's.
+//
 // Converged when |f_free| <= max(absoluteTolerance, relativeTolerance * |f_free(x0)|)
 // (2-norms over the free DOFs, x0 the warm start). The velocities play no part (the
 // force is evaluated at v = 0) and solveEquilibrium leaves them zero.
@@ -34,6 +40,7 @@
 #include <string>
 #include <vector>
 
+#include "tissue_trainer/core/mesh/corrupt_elements.h"
 #include "tissue_trainer/core/solve/cholesky_preconditioner.h"
 #include "tissue_trainer/core/solve/krylov.h"
 #include "tissue_trainer/core/system.h"
@@ -55,14 +62,21 @@ struct EquilibriumParams {
   int refactorAbove = 20;
   double shiftFraction = 1e-3;  // first mu of the shifted solve, of mean |diag(-K)|
   int maxShifts = 8;            // shifted tries before the gradient step
+  // Pseudo-time steps per solve where elements are inverted or the line search fails (0:
+  // none; Newton goes on from inverted states and fails where the line search does).
+  int maxPseudoTimeSteps = 200;
+  // Mass term of the first pseudo-time step, of the mean stiffness diagonal (PseudoTimeRecovery).
+  double pseudoTimeInitialRatio = 1e-3;
 };
 
 enum class EquilibriumStop {
   kConverged,
   kIterationLimit,      // maxNewtonIterations reached above the tolerance
-  kLineSearchFailed,    // no step length decreased the energy (or the residual)
+  kLineSearchFailed,    // no step length decreased the energy (or the residual), and the
+                        // pseudo-time recovery did not get out either
   kNonFiniteForce,      // a non-finite force or stiffness at an accepted state
   kNoStiffness,         // a model provides no analytic stiffness
+  kRecoveryFailed,      // maxPseudoTimeSteps taken with elements still inverted
 };
 
 const char* stopName(EquilibriumStop stop);
@@ -74,12 +88,81 @@ struct EquilibriumReport {
   int gradientSteps = 0;     // Newton steps that fell back to the scaled force
   int forceEvaluations = 0;  // force passes: the start and every line-search trial
   int factorizations = 0;    // Cholesky factorisations made
+  int recoveries = 0;        // times Newton handed over to the pseudo-time steps
+  int pseudoTimeSteps = 0;   // accepted pseudo-time steps (in residualHistory too)
+  int rejectedPseudoTimeSteps = 0;  // tried and redone with a shorter pseudo-time step
   double initialResidual = 0.0;  // |f_free| at the warm start (N)
   double residual = 0.0;         // |f_free| at the end (N)
   std::vector<double> residualHistory;  // |f_free| at the start and after every step
   EquilibriumStop stop = EquilibriumStop::kConverged;
   std::string reason;  // "" when converged, else a sentence
   bool converged() const { return stop == EquilibriumStop::kConverged; }
+};
+
+// Pseudo-transient continuation (C. T. Kelley and D. E. Keyes, "Convergence analysis of
+// pseudo-transient continuation", SIAM J. Numer. Anal. 35, 1998; the step length by the
+// "switched evolution relaxation" analysed there) for the states Newton cannot leave: damped
+// implicit steps
+//   (M / tau - K) dx = f(x),   x <- x + dx,
+// with M the lumped masses of the free DOFs (the mean free mass where a DOF has none): a
+// backward Euler step of length h = sqrt(tau) from rest whose velocity is all damped away,
+// what brings an inverted body back under backward Euler. The first tau makes the mass term a
+// small part of the stiffness, mean M / tau = params.pseudoTimeInitialRatio mean |diag(-K)|:
+// a Newton step kept definite where K is nearly singular, and taken whatever the energy does
+// (at a clamped element of material/law_point.h the force is not the energy's gradient) as
+// long as the force stays finite, CG meets no non-positive curvature and the residual does
+// not grow more than kRejectGrowth-fold; otherwise the step is redone with tau / 4 (counted in
+// rejectedPseudoTimeSteps). Each accepted step multiplies tau by |f_before| / |f_after|, by
+// kGrowth at most and 1 / kGrowth at least. Back to Newton once no element is inverted and
+// mean M / tau <= kHandOff mean |diag(-K)| (the steps have become Newton's).
+//
+// Why near Newton: started with a large mass term (short steps, close to the overdamped flow)
+// a fully inverted muscle block settles in another, folded equilibrium of higher energy;
+// started with a ratio from 1e-8 to 1e-2 it returns to its rest shape (docs/solvers.md,
+// "Inverted elements").
+class PseudoTimeRecovery {
+ public:
+  static constexpr double kGrowth = 10.0;
+  static constexpr double kRejectGrowth = 100.0;
+  static constexpr double kHandOff = 1e-6;
+
+  // Whether the recovery should take over at x: steps left in params.maxPseudoTimeSteps
+  // (over the whole solve, rejected steps included) and an element inverted or flat
+  // (mesh/corrupt_elements.h, volume <= 0).
+  bool wanted(const System& system, const EquilibriumParams& params, const Eigen::VectorXd& x,
+              const EquilibriumReport& report);
+  // From x (f the free residual there, residual = |f|) until the hand-off or residual <=
+  // target; x, f and residual follow the accepted steps, which the report counts and adds to
+  // its residualHistory. False when the steps ran out first (or none were left) or a
+  // stiffness was not finite.
+  bool run(const System& system, const EquilibriumParams& params, double target,
+           Eigen::VectorXd& x, Eigen::VectorXd& f, double& residual, EquilibriumReport& report);
+
+ private:
+  bool stepsLeft(const EquilibriumParams& params, const EquilibriumReport& report) const;
+  int invertedElements(const System& system, const Eigen::VectorXd& x);
+  // -K at x with the constraints applied, and the mean |diagonal| over the free DOFs; false
+  // when not finite.
+  bool assemble(const System& system, const Eigen::VectorXd& x, double& meanDiagonal);
+  // dx_ from (M / tau - K) dx = f; false on non-positive curvature.
+  bool solveStep(const System& system, const EquilibriumParams& params, double tau,
+                 const Eigen::VectorXd& f, EquilibriumReport& report);
+  // One step of length tau from x: taken (x, f, residual moved, tau grown or shrunk by the
+  // residual's ratio) or refused (nothing changed).
+  bool tryStep(const System& system, const EquilibriumParams& params, double& tau,
+               Eigen::VectorXd& x, Eigen::VectorXd& f, double& residual,
+               EquilibriumReport& report);
+
+  SparseMatrix A_;
+  std::vector<int> diagonal_;  // offsets of the diagonal entries in A_'s values
+  Eigen::VectorXd weight_, stiffnessDiagonal_, shiftedDiagonal_, dx_, trial_, trialF_,
+      zeroVelocity_;
+  JacobiPreconditioner jacobi_;
+  std::unique_ptr<CholeskyPreconditioner> cholesky_;
+  KrylovWorkspace krylov_;
+  CorruptElementCheck corruptCheck_;
+  const Mesh* checkedMesh_ = nullptr;  // the mesh corruptCheck_ was built for
+  int checkedElements_ = 0;            // and its number of tets and hexes then
 };
 
 // Keeps the matrices, vectors and preconditioners between solves (no allocation once sized).
@@ -97,6 +180,9 @@ class EquilibriumSolver {
   // potential energy there (NaN when a model has none).
   double residualAt(const System& system, const Eigen::VectorXd& x, Eigen::VectorXd& f,
                     double& potential, EquilibriumReport& report) const;
+  // The energy at x after pseudo-time steps moved it (f_ refreshed too).
+  double potentialAfterRecovery(const System& system, const Eigen::VectorXd& x,
+                                EquilibriumReport& report);
   // The Newton direction dx_ from -K dx = f_ at x (shifted, or the scaled force, where -K is
   // not positive definite); false when the stiffness is not finite.
   bool newtonDirection(const System& system, const Eigen::VectorXd& x, EquilibriumReport& report);
@@ -121,6 +207,7 @@ class EquilibriumSolver {
   double potential_ = 0.0;          // at the current x (with f_)
   KrylovWorkspace krylov_;
   bool hasEnergy_ = true;
+  PseudoTimeRecovery recovery_;
 };
 
 // The free DOFs of system.state.x moved to equilibrium at the current loads and constrained
