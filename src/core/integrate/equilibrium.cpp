@@ -160,6 +160,16 @@ bool EquilibriumSolver::lineSearch(const System& system, Eigen::VectorXd& x, dou
   return false;
 }
 
+// An unshifted Newton step of a few units in the last place of the positions: the residual
+// left is the round-off of the force (stiff tissue puts it above a tolerance in newtons), and
+// no representable x reduces it further.
+bool EquilibriumSolver::newtonStepBelowRoundOff(const Eigen::VectorXd& x) const {
+  constexpr double kUnitsInLastPlace = 8.0;
+  const double scale = x.lpNorm<Eigen::Infinity>();
+  return scale > 0.0 && dx_.lpNorm<Eigen::Infinity>() <=
+                            kUnitsInLastPlace * std::numeric_limits<double>::epsilon() * scale;
+}
+
 // The line search compares energies with the one kept from the last force pass; the
 // pseudo-time steps move x without it.
 double EquilibriumSolver::potentialAfterRecovery(const System& system, const Eigen::VectorXd& x,
@@ -204,10 +214,15 @@ EquilibriumReport EquilibriumSolver::solve(const System& system, Eigen::VectorXd
       potential_ = potentialAfterRecovery(system, x, report);
     }
     if (residual <= target) break;
+    const int shiftedBefore = report.shiftedSolves;
     if (!newtonDirection(system, x, report))
       return stop(EquilibriumStop::kNonFiniteForce,
                   "equilibrium: non-finite stiffness at Newton iteration " +
                       std::to_string(report.newtonIterations + 1));
+    if (report.shiftedSolves == shiftedBefore && newtonStepBelowRoundOff(x)) {
+      report.atRoundOff = true;
+      break;
+    }
     // Not a descent direction of the energy (an indefinite matrix CG did not notice):
     // the scaled force is.
     bool gradient = hasEnergy_ && !(f_.dot(dx_) > 0.0);

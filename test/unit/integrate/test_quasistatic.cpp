@@ -74,6 +74,44 @@ TEST(Equilibrium, NewtonConvergesQuadratically) {
 
 // A jittered box of tets whose boundary nodes follow x = G X + t: every interior node lands
 // on the same map (a homogeneous deformation is an exact equilibrium of linear tets).
+// Stiff, nearly incompressible tissue (1 GPa, nu 0.4999): the round-off of its residual is
+// far above any tolerance in newtons. Asked for an unreachable 1e-30 N, the solve stops as
+// converged once Newton's step is at the round-off of the positions, at the equilibrium of
+// a tolerance it can meet; a second solve from there stops at once.
+TEST(Equilibrium, StopsAtTheRoundOffOfStiffTissue) {
+  Mesh mesh = cantileverBeam(0.1, 0.02, 8, 2);
+  System stiff(mesh, std::vector<Material>{Material::isotropic(1e9, 0.4999, 1000.0)});
+  stiff.models.push_back(makeElasticModel("hyperelastic_neo_hookean", stiff.mesh, stiff.materials));
+  stiff.models.push_back(std::make_unique<GravityModel>(stiff.mass, Eigen::Vector3d(0, 0, -9.81)));
+  const Eigen::VectorXd rest = stiff.state.x;
+  EquilibriumParams reachable;
+  reachable.preconditioner = EquilibriumParams::Preconditioning::kCholesky;
+  reachable.linearTolerance = 1e-14;
+  reachable.absoluteTolerance = 1e-6;
+  reachable.relativeTolerance = 0.0;
+  const EquilibriumReport first = solveEquilibrium(stiff, reachable);
+  ASSERT_TRUE(first.converged()) << first.reason;
+  EXPECT_FALSE(first.atRoundOff);
+  const Eigen::VectorXd reference = stiff.state.x;
+
+  EquilibriumParams unreachable = reachable;
+  unreachable.absoluteTolerance = 1e-30;
+  stiff.state.x = rest;
+  const EquilibriumReport r = solveEquilibrium(stiff, unreachable);
+  std::printf("round-off stop: %d Newton iterations, residual %.3e N (from %.3e N)\n",
+              r.newtonIterations, r.residual, r.initialResidual);
+  ASSERT_TRUE(r.converged()) << r.reason;
+  EXPECT_TRUE(r.atRoundOff);
+  EXPECT_GT(r.residual, unreachable.absoluteTolerance);
+  EXPECT_LT(r.newtonIterations, unreachable.maxNewtonIterations);
+  EXPECT_LT((stiff.state.x - reference).lpNorm<Eigen::Infinity>(), 1e-12);
+
+  const EquilibriumReport again = solveEquilibrium(stiff, unreachable);
+  ASSERT_TRUE(again.converged()) << again.reason;
+  EXPECT_TRUE(again.atRoundOff);
+  EXPECT_LE(again.newtonIterations, 1);
+}
+
 TEST(Equilibrium, PatchTestPutsInteriorNodesOnTheAffineMap) {
   std::mt19937 rng(7);
   const int c = 3;

@@ -33,7 +33,10 @@
 // and returns to Newton once no element is inverted and those steps have become Newton's.
 //
 // Converged when |f_free| <= max(absoluteTolerance, relativeTolerance * |f_free(x0)|)
-// (2-norms over the free DOFs, x0 the warm start). The velocities play no part (the
+// (2-norms over the free DOFs, x0 the warm start), or when an unshifted Newton step moves no
+// coordinate by more than 8 units in the last place of the largest one (the residual is then
+// the force's round-off, which for stiff tissue can exceed a tolerance in newtons; the report
+// says atRoundOff). The velocities play no part (the
 // force is evaluated at v = 0) and solveEquilibrium leaves them zero.
 #include <Eigen/Core>
 #include <memory>
@@ -94,6 +97,9 @@ struct EquilibriumReport {
   double initialResidual = 0.0;  // |f_free| at the warm start (N)
   double residual = 0.0;         // |f_free| at the end (N)
   std::vector<double> residualHistory;  // |f_free| at the start and after every step
+  // Converged with the residual above the tolerance: the Newton step had fallen to the
+  // round-off of the positions (EquilibriumSolver::newtonStepBelowRoundOff).
+  bool atRoundOff = false;
   EquilibriumStop stop = EquilibriumStop::kConverged;
   std::string reason;  // "" when converged, else a sentence
   bool converged() const { return stop == EquilibriumStop::kConverged; }
@@ -180,6 +186,7 @@ class EquilibriumSolver {
   // potential energy there (NaN when a model has none).
   double residualAt(const System& system, const Eigen::VectorXd& x, Eigen::VectorXd& f,
                     double& potential, EquilibriumReport& report) const;
+  bool newtonStepBelowRoundOff(const Eigen::VectorXd& x) const;
   // The energy at x after pseudo-time steps moved it (f_ refreshed too).
   double potentialAfterRecovery(const System& system, const Eigen::VectorXd& x,
                                 EquilibriumReport& report);
