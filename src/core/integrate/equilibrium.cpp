@@ -164,7 +164,7 @@ bool EquilibriumSolver::lineSearch(const System& system, Eigen::VectorXd& x, dou
 // left is the round-off of the force (stiff tissue puts it above a tolerance in newtons), and
 // no representable x reduces it further.
 bool EquilibriumSolver::newtonStepBelowRoundOff(const Eigen::VectorXd& x) const {
-  constexpr double kUnitsInLastPlace = 8.0;
+  constexpr double kUnitsInLastPlace = 32.0;
   const double scale = x.lpNorm<Eigen::Infinity>();
   return scale > 0.0 && dx_.lpNorm<Eigen::Infinity>() <=
                             kUnitsInLastPlace * std::numeric_limits<double>::epsilon() * scale;
@@ -220,6 +220,11 @@ EquilibriumReport EquilibriumSolver::solve(const System& system, Eigen::VectorXd
                   "equilibrium: non-finite stiffness at Newton iteration " +
                       std::to_string(report.newtonIterations + 1));
     if (report.shiftedSolves == shiftedBefore && newtonStepBelowRoundOff(x)) {
+      x += dx_;  // the last, full step: what it gains in the digits of the displacement is kept
+      residual = residualAt(system, x, f_, potential_, report);
+      ++report.newtonIterations;
+      report.residual = residual;
+      report.residualHistory.push_back(residual);
       report.atRoundOff = true;
       break;
     }

@@ -33,8 +33,8 @@
 // and returns to Newton once no element is inverted and those steps have become Newton's.
 //
 // Converged when |f_free| <= max(absoluteTolerance, relativeTolerance * |f_free(x0)|)
-// (2-norms over the free DOFs, x0 the warm start), or when an unshifted Newton step moves no
-// coordinate by more than 8 units in the last place of the largest one (the residual is then
+// (2-norms over the free DOFs, x0 the warm start), or after an unshifted Newton step that moves no
+// coordinate by more than 32 units in the last place of the largest one (the residual is then
 // the force's round-off, which for stiff tissue can exceed a tolerance in newtons; the report
 // says atRoundOff). The velocities play no part (the
 // force is evaluated at v = 0) and solveEquilibrium leaves them zero.
