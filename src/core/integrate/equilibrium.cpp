@@ -73,17 +73,23 @@ void EquilibriumSolver::scaledForceDirection() {
   dx_ = f_.cwiseQuotient(diagonalValues_.cwiseAbs().cwiseMax(1e-300));
 }
 
+bool assembleConstrainedNegativeStiffness(const System& system, const Eigen::VectorXd& x,
+                                          SparseMatrix& A, std::vector<int>& diagonalOffsets) {
+  system.assembleStiffness(x, A, -1.0);
+  if (!Eigen::Map<const Eigen::VectorXd>(A.valuePtr(), A.nonZeros()).allFinite()) return false;
+  system.constrainMatrix(A);
+  if (diagonalOffsets.size() != static_cast<size_t>(A.rows())) {
+    diagonalOffsets.assign(A.rows(), -1);
+    for (int row = 0; row < A.outerSize(); ++row)
+      for (SparseMatrix::InnerIterator it(A, row); it; ++it)
+        if (it.col() == row) diagonalOffsets[row] = static_cast<int>(&it.valueRef() - A.valuePtr());
+  }
+  return true;
+}
+
 bool EquilibriumSolver::newtonDirection(const System& system, const Eigen::VectorXd& x,
                                         EquilibriumReport& report) {
-  system.assembleStiffness(x, A_, -1.0);
-  if (!Eigen::Map<const Eigen::VectorXd>(A_.valuePtr(), A_.nonZeros()).allFinite()) return false;
-  system.constrainMatrix(A_);
-  if (diagonal_.size() != static_cast<size_t>(A_.rows())) {
-    diagonal_.assign(A_.rows(), -1);
-    for (int row = 0; row < A_.outerSize(); ++row)
-      for (SparseMatrix::InnerIterator it(A_, row); it; ++it)
-        if (it.col() == row) diagonal_[row] = static_cast<int>(&it.valueRef() - A_.valuePtr());
-  }
+  if (!assembleConstrainedNegativeStiffness(system, x, A_, diagonal_)) return false;
   double* a = A_.valuePtr();
   diagonalValues_.resize(A_.rows());
   for (int row = 0; row < A_.rows(); ++row) diagonalValues_[row] = a[diagonal_[row]];

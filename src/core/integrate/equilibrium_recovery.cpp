@@ -8,15 +8,7 @@ namespace tt {
 
 bool PseudoTimeRecovery::assemble(const System& system, const Eigen::VectorXd& x,
                                   double& meanDiagonal) {
-  system.assembleStiffness(x, A_, -1.0);
-  if (!Eigen::Map<const Eigen::VectorXd>(A_.valuePtr(), A_.nonZeros()).allFinite()) return false;
-  system.constrainMatrix(A_);
-  if (diagonal_.size() != static_cast<size_t>(A_.rows())) {
-    diagonal_.assign(A_.rows(), -1);
-    for (int row = 0; row < A_.outerSize(); ++row)
-      for (SparseMatrix::InnerIterator it(A_, row); it; ++it)
-        if (it.col() == row) diagonal_[row] = static_cast<int>(&it.valueRef() - A_.valuePtr());
-  }
+  if (!assembleConstrainedNegativeStiffness(system, x, A_, diagonal_)) return false;
   stiffnessDiagonal_.resize(A_.rows());
   meanDiagonal = 0.0;
   int free = 0;

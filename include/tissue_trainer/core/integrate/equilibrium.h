@@ -84,6 +84,11 @@ enum class EquilibriumStop {
 
 const char* stopName(EquilibriumStop stop);
 
+// -K at x (K = df/dx) with the constrained rows and columns made identity, and the offsets of
+// its diagonal entries in A's values (found when the size changes); false when K is not finite.
+bool assembleConstrainedNegativeStiffness(const System& system, const Eigen::VectorXd& x,
+                                          SparseMatrix& A, std::vector<int>& diagonalOffsets);
+
 struct EquilibriumReport {
   int newtonIterations = 0;  // Newton steps taken
   int linearIterations = 0;  // CG iterations over all solves (shifted ones included)
