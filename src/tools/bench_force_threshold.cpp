@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <vector>
 
+#include "bench_support.h"
 #include "muscle_scene.h"
 #include "tissue_trainer/core/integrate/newtonian.h"
 #include "tissue_trainer/core/model/edge_length.h"
@@ -20,6 +21,7 @@ namespace {
 
 using namespace tt;
 using namespace tt::muscle_scene;
+using tt::bench::maxNodeDistance;
 
 constexpr double kFrame = 0.01;  // s
 
@@ -64,12 +66,6 @@ Run simulate(double step, double threshold) {
   for (int a = 0; a < s->numNodes(); ++a) freeNodes += !s->isConstrained[3 * a];
   run.frozenFraction = static_cast<double>(integrator.frozenNodeSteps()) / (steps * freeNodes);
   return run;
-}
-
-double maxNodeDistance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-  double d = 0.0;
-  for (int i = 0; i < a.size() / 3; ++i) d = std::max(d, (a - b).segment<3>(3 * i).norm());
-  return d;
 }
 
 Run medianRun(double step, double threshold, int repeats) {

@@ -28,12 +28,14 @@
 #include "tissue_trainer/core/model/edge_length.h"
 #include "tissue_trainer/core/model/stvk_displacement.h"
 #include "tissue_trainer/core/model/tensor_mass.h"
+#include "bench_support.h"
 #include "muscle_scene.h"
 
 namespace {
 
 using namespace tt;
 using namespace tt::muscle_scene;
+using tt::bench::maxNodeDistance;
 
 constexpr double kFrame = 0.01;   // s
 
@@ -87,12 +89,6 @@ Run simulate(const ModelChoice& model, Integrator& integrator) {
   }
   run.atEnd = s->state.x;
   return run;
-}
-
-double maxNodeDistance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-  double d = 0.0;
-  for (int i = 0; i < a.size() / 3; ++i) d = std::max(d, (a - b).segment<3>(3 * i).norm());
-  return d;
 }
 
 RadauOptions radauOptions(double tol) {

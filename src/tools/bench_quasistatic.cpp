@@ -42,13 +42,6 @@ std::string loadAverage() {
   return text;
 }
 
-double maxNodeDistance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-  double worst = 0.0;
-  for (Eigen::Index n = 0; n < a.size() / 3; ++n)
-    worst = std::max(worst, (a.segment<3>(3 * n) - b.segment<3>(3 * n)).norm());
-  return worst;
-}
-
 // The solver settings compared: the scene's own, a new Cholesky factor every Newton
 // iteration, and looser residual tolerances.
 struct Setting {
@@ -121,7 +114,8 @@ UpdateRow runUpdates(tt::System& system, tt::ActivationRef slot, double a0, doub
     factorizations.push_back(r.factorizations);
     forces.push_back(r.forceEvaluations);
     row.residual = std::max(row.residual, r.residual);
-    row.error = std::max(row.error, maxNodeDistance(x, reference(system, x, setting.params)));
+    const double error = tt::bench::maxNodeDistance(x, reference(system, x, setting.params));
+    row.error = std::max(row.error, error);
   }
   system.state.x = x;
   using tt::bench::median;

@@ -34,6 +34,14 @@ inline double wallSeconds() {
       .count();
 }
 
+// The largest distance between corresponding nodes of two position vectors (m).
+inline double maxNodeDistance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  double d = 0.0;
+  for (Eigen::Index n = 0; n < a.size() / 3; ++n)
+    d = std::max(d, (a.segment<3>(3 * n) - b.segment<3>(3 * n)).norm());
+  return d;
+}
+
 inline double median(std::vector<double> values) {
   if (values.empty()) return std::nan("");
   const size_t mid = values.size() / 2;
