@@ -144,10 +144,6 @@ struct Scene {
 
   void draw(OffscreenRenderer& r, std::vector<std::uint8_t>& rgb) const {
     r.beginFrame();
-    if (cavity) {
-      r.setMaterial(tt_render::cavityWall());
-      r.drawCavity(Eigen::Vector3d(-0.036, 0.06, 0.03), Eigen::Vector3d(0.2, 0.16, 0.25), Rgb{0.78f, 0.42f, 0.38f});
-    }
     if (organ) {
       r.setMaterial(tt_render::wetTissue());
       r.drawMesh(liver.positions, normals, liver.triangles, Rgb{0.62f, 0.22f, 0.18f});
@@ -160,6 +156,10 @@ struct Scene {
       for (const auto& s : shapes) poses.push_back(tt_render::defaultInstrumentLinkPose(s, pose, jaw));
       r.setMaterial(tt_render::steel());
       tt_render::drawShapes(r, shapes, poses);
+    }
+    if (cavity) {  // last, as the node draws it
+      r.setMaterial(tt_render::cavityWall());
+      r.drawCavity(Eigen::Vector3d(-0.036, 0.06, 0.03), Eigen::Vector3d(0.2, 0.16, 0.25), Rgb{0.78f, 0.42f, 0.38f});
     }
     r.readRgb(rgb);
   }

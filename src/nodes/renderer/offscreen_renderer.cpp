@@ -45,8 +45,10 @@ uniform vec2 uViewport;
 varying vec3 vEye;
 varying vec3 vNormal;
 varying vec3 vWorld;
-float cellValue(vec3 cell) {
-  return fract(sin(dot(cell, vec3(12.9898, 78.233, 37.719))) * 43758.5453);
+float cellValue(vec3 cell) {  // a pseudo-random value in [0, 1) per lattice cell, no sin()
+  vec3 q = fract(cell * vec3(0.1371, 0.2113, 0.1789) + vec3(0.31, 0.57, 0.73));
+  q += dot(q, q.zxy + 19.19);
+  return fract(q.x * q.y + q.z);
 }
 float valueNoise(vec3 p) {
   vec3 cell = floor(p);

@@ -191,10 +191,6 @@ class RendererNode {
   void renderFrame() {
     const auto start = std::chrono::steady_clock::now();
     renderer_.beginFrame();
-    if (!params_.cavityRadii.isZero(0.0)) {
-      renderer_.setMaterial(tt_render::cavityWall());
-      renderer_.drawCavity(params_.cavityCentre, params_.cavityRadii, Rgb{0.78f, 0.42f, 0.38f});
-    }
     if (!positions_.empty() && !triangles_.empty()) {
       tt_render::Material tissue = tt_render::wetTissue();
       tissue.texture = static_cast<float>(params_.tissueTexture);
@@ -205,6 +201,10 @@ class RendererNode {
     const std::vector<Eigen::Isometry3d> poses = linkPoses(drawn);
     renderer_.setMaterial(tt_render::steel());
     tt_render::drawShapes(renderer_, drawn, poses);
+    if (!params_.cavityRadii.isZero(0.0)) {  // last: the depth test skips what is hidden
+      renderer_.setMaterial(tt_render::cavityWall());
+      renderer_.drawCavity(params_.cavityCentre, params_.cavityRadii, Rgb{0.78f, 0.42f, 0.38f});
+    }
 
     sensor_msgs::Image img;
     img.header.stamp = ros::Time::now();
