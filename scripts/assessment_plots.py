@@ -167,7 +167,7 @@ def curve(folder):
         return []
     sessions = [int(s) for s in data["session"]]
     fig, axes = plt.subplots(1, 3, figsize=(9.6, 3.2))
-    panels = [("score", "overall score (0-100)"), ("task_time", "task time (s)"),
+    panels = [("score", "overall score (0-100)"), ("motion_time", "motion time (s)"),
               ("ldlj_median", "median log dimensionless jerk")]
     for ax, (key, label) in zip(axes, panels):
         pairs = [(s, v) for s, v in zip(sessions, data[key]) if v is not None]

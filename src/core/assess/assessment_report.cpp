@@ -52,7 +52,7 @@ std::string restartLines(const AssessmentReport& r) {
 
 const std::vector<ReportFigure>& reportFigures() {
   static const std::vector<ReportFigure> figures = {
-      {"tip_path.png", "Tip path seen from above and from the front; movements in colour, pauses grey"},
+      {"tip_path.png", "Tip path seen from the front (as the laparoscope) and from the side; movements in colour, pauses grey"},
       {"speed.png", "Smoothed tip speed; each movement shaded, with its log dimensionless jerk"},
       {"force.png", "Tool-tissue force with the excessive-force threshold"},
       {"strain.png", "Largest tissue strain over time"},
@@ -271,7 +271,7 @@ std::string writeAssessment(const AssessmentReport& r, const std::string& dir,
 }
 
 namespace {
-const char* kCurveMetrics[] = {"task_time", "path_length_smoothed", "ldlj_median", "idle_time",
+const char* kCurveMetrics[] = {"motion_time", "path_length_smoothed", "ldlj_median", "idle_time",
                                "excessive_force_time", "peak_force"};
 }  // namespace
 

@@ -251,7 +251,7 @@ tt::AssessmentReport assessBag(const std::string& path, const Options& options,
   return feeder.report();
 }
 
-// Runs `python3 SCRIPT MODE DIR`; false (after saying why on stderr) when it fails.
+// Runs `/usr/bin/python3 SCRIPT MODE DIR`; false (after saying why on stderr) when it fails.
 bool runPlots(const std::string& mode, const std::string& dir) {
   const char* env = std::getenv("TT_ASSESSMENT_PLOTS");
   const std::string script = env && *env ? env : TT_PLOT_SCRIPT;
@@ -264,7 +264,8 @@ bool runPlots(const std::string& mode, const std::string& dir) {
   const pid_t pid = fork();
   if (pid < 0) return false;
   if (pid == 0) {
-    execlp("python3", "python3", script.c_str(), mode.c_str(), dir.c_str(), static_cast<char*>(nullptr));
+    // Debian's interpreter, where python3-matplotlib is (not a python3 earlier on PATH).
+    execl("/usr/bin/python3", "python3", script.c_str(), mode.c_str(), dir.c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
   int status = 0;
@@ -277,7 +278,7 @@ bool runPlots(const std::string& mode, const std::string& dir) {
 
 // "NN_stem" for the folder of the i-th of several bags.
 std::string sessionFolder(std::size_t index, const std::string& bag) {
-  char prefix[16];
+  char prefix[32];
   std::snprintf(prefix, sizeof prefix, "%02zu_", index + 1);
   std::string stem = fs::path(bag).filename().string();
   for (const char* ext : {".active", ".bag"})
@@ -314,7 +315,7 @@ int main(int argc, char** argv) {
   try {
     for (std::size_t i = 0; i < options.bags.size(); ++i) {
       tt::SessionResult r;
-      r.label = fs::path(options.bags[i]).filename().string();
+      r.label = options.bags[i];
       r.dir = options.bags.size() == 1 ? "." : sessionFolder(i, options.bags[i]);
       r.report = assessBag(options.bags[i], options, settings, messages[i]);
       if (scored) r.score = tt::scoreAssessment(r.report, bands);
