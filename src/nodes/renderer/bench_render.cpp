@@ -23,6 +23,11 @@
 int main(int argc, char** argv) {
   const int width = argc > 2 ? std::atoi(argv[1]) : 640, height = argc > 2 ? std::atoi(argv[2]) : 480;
   const int frames = argc > 3 ? std::atoi(argv[3]) : 200;
+  // TT_BENCH_TEXTURE=0: no procedural texture; TT_BENCH_CAVITY=0: no cavity (to see their cost).
+  const bool texture = !std::getenv("TT_BENCH_TEXTURE") || std::atoi(std::getenv("TT_BENCH_TEXTURE"));
+  const bool cavity = !std::getenv("TT_BENCH_CAVITY") || std::atoi(std::getenv("TT_BENCH_CAVITY"));
+  (void)texture;
+  (void)cavity;
   if (width <= 0 || height <= 0 || frames <= 0) {
     std::fprintf(stderr, "usage: bench_render [WIDTH HEIGHT [FRAMES]]\n");
     return 2;
@@ -56,7 +61,9 @@ int main(int argc, char** argv) {
     const std::vector<float> normals = tt_render::vertexNormals(positions, triangles);
     r.beginFrame();
 #ifndef TT_BENCH_BEFORE
-    r.setMaterial(tt_render::wetTissue());
+    tt_render::Material tissue = tt_render::wetTissue();
+    if (!texture) tissue.texture = 0.0f;
+    r.setMaterial(tissue);
 #endif
     r.drawMesh(positions, normals, triangles, tt_render::Rgb{0.62f, 0.22f, 0.18f});
 #ifndef TT_BENCH_BEFORE
@@ -64,9 +71,12 @@ int main(int argc, char** argv) {
 #endif
     tt_render::drawShapes(r, shapes, poses);
 #ifndef TT_BENCH_BEFORE
-    r.setMaterial(tt_render::cavityWall());  // last: the depth test skips what is hidden
-    r.drawCavity(Eigen::Vector3d(-0.036, 0.06, 0.03), Eigen::Vector3d(0.2, 0.16, 0.25),
-                 tt_render::Rgb{0.78f, 0.42f, 0.38f});
+    tt_render::Material wall = tt_render::cavityWall();
+    if (!texture) wall.texture = 0.0f;
+    r.setMaterial(wall);  // last: the depth test skips what is hidden
+    if (cavity)
+      r.drawCavity(Eigen::Vector3d(-0.036, 0.06, 0.03), Eigen::Vector3d(0.2, 0.16, 0.25),
+                   tt_render::Rgb{0.78f, 0.42f, 0.38f});
 #endif
     r.readRgb(rgb);
     const double t = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

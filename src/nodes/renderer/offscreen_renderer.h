@@ -25,11 +25,12 @@ struct Material {
   float shininess = 24.0f;  // Blinn-Phong exponent: larger = smaller, sharper highlight
   float texture = 0.0f;     // relative amplitude of the procedural texture (0: none)
   float textureScale = 400.0f;  // 1/m: the texture's finest cells are about 1/scale wide
+  bool perVertex = false;   // light per vertex, no texture: cheaper for large smooth surfaces
 };
 
 // Wet liver parenchyma: a strong, sharp highlight and a fine mottled texture.
 Material wetTissue();
-// Peritoneum lining the cavity: weaker highlight, coarser texture.
+// Peritoneum lining the cavity: weaker highlight, lit per vertex (it fills much of the image).
 Material cavityWall();
 // Stainless steel instrument.
 Material steel();
@@ -112,7 +113,8 @@ class OffscreenRenderer {
   Rgb background_{0.08f, 0.05f, 0.05f};
   Lighting lighting_;
   Material material_;
-  unsigned program_ = 0;  // GL program object, 0 without GLSL
+  unsigned program_ = 0;        // per-pixel GL program, 0 without GLSL
+  unsigned vertexProgram_ = 0;  // per-vertex GL program (Material::perVertex)
 };
 
 }  // namespace tt_render
