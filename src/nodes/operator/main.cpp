@@ -28,6 +28,7 @@ namespace {
 using tt_nodes::monotonicSeconds;
 
 constexpr int kMaxLagTicks = 100;  // a tick this many periods late restarts the deadlines
+constexpr double kMaxStampLag = 0.05;  // s a message's stamp may trail the wall clock
 
 struct Settings {
   std::string task;
@@ -108,6 +109,11 @@ class Operator {
       const Eigen::Vector3d force =
           running && now - forceTime_ <= settings_.forceTimeout ? force_ : Eigen::Vector3d::Zero();
       hand_.step(target.tip, target.tipVelocity, force, dt);
+      // A tick more than kMaxStampLag behind the wall clock moves the stamps' origin up, so a
+      // long stall never makes the pose look old to the simulation (its tool timeout: 0.2 s).
+      const ros::Time wall = ros::Time::now();
+      if ((wall - (origin + ros::Duration(tick * dt))).toSec() > kMaxStampLag)
+        origin = wall - ros::Duration(tick * dt);
       step(target.jaw, dt, origin + ros::Duration(tick * dt));
       if (running && *target.phase != phase) {
         phase = *target.phase;
