@@ -30,16 +30,16 @@ ReferenceBands loadReferenceBands(const std::string& yamlFile) {
   ReferenceBands out;
   out.source = top["source"].text();
   const YamlEntry bands = top["bands"];
-  if (!bands.node().IsMap() || bands.node().size() == 0) bands.fail("a map of metric keys to {expert, novice}");
+  if (!bands.node().IsMap() || bands.node().size() == 0) bands.fail("expected a map of metric keys to {expert, novice}");
   const std::vector<std::string> known = assessmentMetricKeys();
   for (const auto& item : bands.node()) {
     const std::string key = item.first.as<std::string>();
     const YamlEntry band = bands[key.c_str()];
     if (std::find(known.begin(), known.end(), key) == known.end())
-      band.fail("a metric key of the assessment report");
+      band.fail("expected a metric key of the assessment report (docs/assessment.md)");
     band.expectMap({"expert", "novice"});
     ReferenceBand b{key, band["expert"].number(), band["novice"].number()};
-    if (!(b.expert != b.novice)) band.fail("different expert and novice values");
+    if (!(b.expert != b.novice)) band.fail("expected different expert and novice values");
     out.bands.push_back(b);
   }
   return out;
