@@ -3,6 +3,7 @@
 // published on /camera/image_raw (rgb8) and optionally written as PNG frames.
 #include <ros/ros.h>
 
+#include <sys/resource.h>
 #include <sys/stat.h>
 
 #include <cerrno>
@@ -48,6 +49,7 @@ struct RendererParams {
   tt_render::Camera camera;
   std::string pngDir;
   int pngEvery = 30;
+  int nice = 10;
   InstrumentSource instrument = InstrumentSource::kAuto;
   double shaftLength = 0.3;
   tt_render::Lighting lighting;
@@ -69,6 +71,7 @@ RendererParams readParams(const ros::NodeHandle& pnh) {
   r.camera.fovDeg = p.number("fov_deg", d.fovDeg, 1.0, 170.0);
   r.pngDir = p.text("png_dir", "");
   r.pngEvery = static_cast<int>(p.number("png_every", 30, 1, 1e9));
+  r.nice = static_cast<int>(p.number("nice", 10, 0, 19));
   r.instrument = static_cast<InstrumentSource>(p.choice("instrument", {"auto", "tf", "pose", "none"}, 0));
   r.shaftLength = p.number("shaft_length", 0.3, 0.001, 2.0);
   r.lighting.intensity = p.number("light_intensity", r.lighting.intensity, 0.0, 100.0);
@@ -261,6 +264,10 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh, pnh("~");
   try {
     const RendererParams params = readParams(pnh);
+    // Below the haptic bridge and the simulation: on a busy machine the frame rate drops, not
+    // the force loop. Before the GL context exists, so llvmpipe's threads inherit it.
+    if (params.nice > 0 && setpriority(PRIO_PROCESS, 0, getpriority(PRIO_PROCESS, 0) + params.nice) != 0)
+      ROS_WARN("renderer: cannot lower its priority (~nice %d): %s", params.nice, std::strerror(errno));
     RendererNode node(nh, params);
     ros::spin();  // one thread: the GL context stays on it
   } catch (const tt_nodes::ParamError& e) {
