@@ -3,13 +3,15 @@
 
   assessment_plots.py report DIR    DIR/{path,movements,force,strain}.csv and assessment.yaml
                                     (written by assess_bag or the assessment node) ->
-                                    DIR/tip_path.png, speed.png, force.png, strain.png
+                                    DIR/tip_path.png, speed.png, force.png, strain.png and a
+                                    short page DIR/assessment.html (score, plots, metrics)
   assessment_plots.py curve DIR     DIR/learning_curve.csv -> DIR/learning_curve.png
 
 A plot without data is not written. Exit 0 when every plot with data was written; 2 with one
 line on stderr when the input is missing or malformed.
 """
 import csv
+import html
 import os
 import sys
 
@@ -140,6 +142,35 @@ def plot_strain(strain, out):
     return True
 
 
+def write_page(folder, doc, figures):
+    """assessment.html: the overall score, the per-metric scores, the plots, the metrics."""
+    esc = html.escape
+    parts = ["<!DOCTYPE html><html><head><meta charset='utf-8'><title>Training assessment</title>",
+             "<style>body{font-family:sans-serif;max-width:60em;margin:auto}"
+             "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 6px}</style>",
+             "</head><body><h1>Training assessment</h1>",
+             f"<p>Source: <code>{esc(str(doc.get('source', '')))}</code></p>"]
+    score = doc.get("score")
+    if score:
+        overall = f"{score['overall']:.0f} / 100" if score.get("has_data") else "no data"
+        parts.append(f"<h2>Overall score: {overall}</h2><p>{esc(str(score.get('rule', '')))}</p>")
+        parts.append("<table><tr><th>metric</th><th>value</th><th>expert</th><th>novice</th><th>score</th></tr>")
+        for key, band in (score.get("metrics") or {}).items():
+            value = doc["metrics"].get(key)
+            cell = f"{band['score']:.0f}" if "score" in band else "-"
+            parts.append(f"<tr><td>{esc(key)}</td><td>{value:.4g}</td><td>{band['expert']:.4g}</td>"
+                         f"<td>{band['novice']:.4g}</td><td>{cell}</td></tr>")
+        parts.append("</table>")
+    for name in figures:
+        parts.append(f"<p><img src='{esc(name)}' alt='{esc(name)}'></p>")
+    parts.append("<h2>Metrics</h2><table>")
+    for key, value in doc["metrics"].items():
+        parts.append(f"<tr><td>{esc(key)}</td><td>{value:.6g}</td></tr>")
+    parts.append("</table></body></html>\n")
+    with open(os.path.join(folder, "assessment.html"), "w") as f:
+        f.write("\n".join(parts))
+
+
 def report(folder):
     try:
         with open(os.path.join(folder, "assessment.yaml")) as f:
@@ -158,7 +189,8 @@ def report(folder):
         written.append("force.png")
     if plot_strain(read_csv(os.path.join(folder, "strain.csv")), os.path.join(folder, "strain.png")):
         written.append("strain.png")
-    return written
+    write_page(folder, doc, written)
+    return written + ["assessment.html"]
 
 
 def curve(folder):
