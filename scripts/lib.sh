@@ -27,6 +27,8 @@ TT_PACKAGES=(
   # Python message modules, so that rostopic echo, rosbag and rospy read every topic.
   python3-std-msgs python3-geometry-msgs python3-sensor-msgs python3-visualization-msgs
   python3-diagnostic-msgs python3-std-srvs
+  # The assessment's plots (scripts/assessment_plots.py, run by assess_bag).
+  python3-matplotlib python3-yaml
 )
 
 # The benchmark report's plots (scripts/bench, and the report check of scripts/test), and

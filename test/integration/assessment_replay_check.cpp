@@ -218,6 +218,26 @@ TEST(AssessmentReplay, OfflineReportEqualsOnline) {
   EXPECT_NEAR(m["peak_strain"].as<double>(), 0.2, 1e-9);
   std::printf("%s", readFile(session + "/assess_bag.out").c_str());
 
+  // The score against the package's bands, the four plots embedded in the page, and a
+  // learning curve of two sessions (the same bag twice).
+  EXPECT_TRUE(offline["score"]["overall"].IsDefined());
+  EXPECT_TRUE(online["score"]["overall"].IsDefined());
+  const std::string page = readFile(offlineDir + "/assessment.md");
+  for (const char* png : {"tip_path.png", "speed.png", "force.png", "strain.png"}) {
+    EXPECT_GT(fs::exists(offlineDir + "/" + png) ? fs::file_size(offlineDir + "/" + png) : 0u, 1000u) << png;
+    EXPECT_NE(page.find(std::string("](") + png + ")"), std::string::npos) << png;
+  }
+  const std::string curve = session + "/curve";
+  ASSERT_EQ(run(assessBag() + " " + bagPath + " " + bagPath + " --out " + curve + " > " + session +
+                "/curve.out 2>&1"), 0)
+      << readFile(session + "/curve.out");
+  const std::string stem = fs::path(bagPath).stem().string();
+  EXPECT_TRUE(fs::exists(curve + "/01_" + stem + "/assessment.yaml"));
+  EXPECT_TRUE(fs::exists(curve + "/02_" + stem + "/speed.png"));
+  EXPECT_TRUE(fs::exists(curve + "/learning_curve.png"));
+  const std::string table = readFile(curve + "/learning_curve.md");
+  EXPECT_NE(table.find("| 2 | ["), std::string::npos) << table;
+
   // assess_bag: one error line and exit 2 for a missing bag and for a bag without the topics.
   EXPECT_EQ(run(assessBag() + " " + session + "/none.bag --out " + offlineDir + " 2>" + session + "/err"), 2);
   EXPECT_NE(readFile(session + "/err").find("cannot read the bag"), std::string::npos) << readFile(session + "/err");

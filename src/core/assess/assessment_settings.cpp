@@ -24,10 +24,11 @@ void require(bool ok, const char* key, const std::string& expected, double value
 
 }  // namespace
 
-const std::array<AssessmentSettingKey, 6> kAssessmentSettingKeys = {{
+const std::array<AssessmentSettingKey, 7> kAssessmentSettingKeys = {{
     {"force_threshold", &AssessmentSettings::forceThreshold},
     {"movement_speed_start", &AssessmentSettings::movementSpeedStart},
     {"movement_speed_stop", &AssessmentSettings::movementSpeedStop},
+    {"movement_min_pause", &AssessmentSettings::movementMinPause},
     {"resample_rate", &AssessmentSettings::resampleRate},
     {"smoothing_time", &AssessmentSettings::smoothingTime},
     {"max_gap", &AssessmentSettings::maxGap},
@@ -41,6 +42,8 @@ void AssessmentSettings::validate() const {
   require(positive(movementSpeedStop) && movementSpeedStop <= movementSpeedStart,
           "movement_speed_stop", "a positive speed (m/s) <= movement_speed_start",
           movementSpeedStop);
+  require(std::isfinite(movementMinPause) && movementMinPause >= 0.0, "movement_min_pause",
+          "a time >= 0 s", movementMinPause);
   require(positive(resampleRate) && resampleRate <= 10000.0, "resample_rate",
           "a rate in (0, 10000] Hz", resampleRate);
   require(std::isfinite(smoothingTime) && smoothingTime >= 0.0, "smoothing_time",
@@ -59,9 +62,10 @@ AssessmentSettings loadAssessmentSettings(const std::string& yamlFile) {
     throw InputError(yamlFile, e.mark.line + 1, e.msg);
   }
   const YamlEntry top(root, "", &yamlFile);
-  // output_dir and summary_rate belong to the node; the file is shared with it.
+  // output_dir, summary_rate and reference_bands belong to the node; the file is shared with it.
   top.expectMap({"force_threshold", "movement_speed_start", "movement_speed_stop",
-                 "resample_rate", "smoothing_time", "max_gap", "output_dir", "summary_rate"});
+                 "movement_min_pause", "resample_rate", "smoothing_time", "max_gap",
+                 "output_dir", "summary_rate", "reference_bands"});
   AssessmentSettings s;
   for (const AssessmentSettingKey& k : kAssessmentSettingKeys)
     s.*k.value = top.number(k.key, s.*k.value);

@@ -15,7 +15,10 @@ void ForceStats::add(double t, const Eigen::Vector3d& f, bool inContact, bool af
       if (lastContact_) m_.contactTime += dt;
       m_.integral += last * dt;
       m_.squaredIntegral += last * last * dt;
-      if (lastAbove_) m_.excessiveTime += dt;
+      if (lastAbove_) {
+        m_.excessiveTime += dt;
+        m_.excessIntegral += (last - threshold_) * dt;
+      }
       m_.variation += (f - lastF_).norm();
     }
   }

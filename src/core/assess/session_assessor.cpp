@@ -13,6 +13,14 @@ const Metric* AssessmentReport::find(const std::string& key) const {
 }
 
 namespace {
+// Median (mean of the middle two for an even count); 0 for none.
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
 const AssessmentSettings& validated(const AssessmentSettings& s) {
   s.validate();
   return s;
@@ -53,6 +61,7 @@ bool SessionAssessor::addForce(double t, const Eigen::Vector3d& force, bool inCo
   const bool restart = simulationRestarted && forceCounts_.accepted > 1;
   if (restart) restarts_.push_back(SimulationRestart{t, t - previous});
   force_.add(t, force, inContact, restart);
+  forceSeries_.push_back(TimedValue{t, force.norm()});
   return true;
 }
 
@@ -61,6 +70,7 @@ bool SessionAssessor::addStatus(double t, double maxStrain, double strainedVolum
     return false;
   if (statusCounts_.accepted == 1) statusFirst_ = t;
   peakStrain_ = statusCounts_.accepted == 1 ? maxStrain : std::max(peakStrain_, maxStrain);
+  strainSeries_.push_back(TimedValue{t, maxStrain});
   peakStrainedVolume_ = statusCounts_.accepted == 1 ? strainedVolume
                                                      : std::max(peakStrainedVolume_, strainedVolume);
   return true;
@@ -80,27 +90,51 @@ AssessmentReport SessionAssessor::report() const {
     restart.time -= sessionStart;
     r.restarts.push_back(restart);
   }
-  const TipPathMetrics k = tip_.metrics();
+  if (!std::isfinite(sessionStart)) sessionStart = 0.0;
+  TipPathMetrics k = tip_.metrics(sessionStart);
   const ForceMetrics& f = force_.metrics();
+  for (const TimedValue& v : forceSeries_) r.forceSeries.push_back(TimedValue{v.t - sessionStart, v.value});
+  for (const TimedValue& v : strainSeries_) r.strainSeries.push_back(TimedValue{v.t - sessionStart, v.value});
   auto add = [&](const char* key, const char* unit, bool hasData, double value, const char* def) {
     r.metrics.push_back(Metric{key, unit, hasData && std::isfinite(value) ? value : 0.0,
                                hasData && std::isfinite(value), def});
   };
   const bool tipSpan = tipCounts_.accepted >= 2;
   const bool jerk = k.jerkTime > 0.0;
+  const bool moved = !k.movementList.empty();
+  std::vector<double> ldlj, durations, peakSpeeds;
+  double chords = 0.0, movedLength = 0.0;
+  for (const Movement& m : k.movementList) {
+    if (m.hasJerk) ldlj.push_back(m.logDimensionlessJerk);
+    durations.push_back(m.duration());
+    peakSpeeds.push_back(m.peakSpeed);
+    chords += m.chord;
+    movedLength += m.pathLength;
+  }
   add("task_time", "s", tipSpan, tipLast_ - tipFirst_, "first to last tip sample");
   add("motion_time", "s", k.speedPoints > 0, k.motionTime,
       "start of the first movement to the end of the last one (smoothed path)");
+  add("idle_time", "s", moved, k.idleTime,
+      "time between the first movement's start and the last one's end spent in no movement");
   add("path_length", "m", tipSpan, k.pathLength, "sum of the distances between tip samples");
   add("path_length_smoothed", "m", k.gridPoints >= 2, k.pathLengthSmoothed,
       "path length of the resampled, smoothed tip path");
+  add("economy_of_motion", "1", movedLength > 0.0, movedLength > 0.0 ? chords / movedLength : 0.0,
+      "sum over movements of the straight start-to-end distance / their path length (1: straight)");
   add("movements", "1", k.speedPoints > 0, static_cast<double>(k.movements),
-      "smoothed tip speed rising above movement_speed_start (ends below movement_speed_stop)");
+      "smoothed tip speed rising above movement_speed_start (ends below movement_speed_stop "
+      "for at least movement_min_pause)");
+  add("movement_duration_median", "s", moved, median(durations), "median duration of a movement");
+  add("peak_speed_median", "m/s", moved, median(peakSpeeds), "median of the movements' peak speeds");
+  add("ldlj_median", "1", !ldlj.empty(), median(ldlj),
+      "median over movements of the log dimensionless jerk -ln(1/2 int |jerk|^2 dt D^5 / A^2) "
+      "(minimum-jerk reach: -5.886; lower is less smooth)");
+  add("ldlj_worst", "1", !ldlj.empty(), ldlj.empty() ? 0.0 : *std::min_element(ldlj.begin(), ldlj.end()),
+      "lowest log dimensionless jerk of any movement");
   add("mean_squared_jerk", "m^2/s^6", jerk, jerk ? k.squaredJerkIntegral / k.jerkTime : 0.0,
       "time mean of |d3x/dt3|^2 on the smoothed path");
-  const double L = k.pathLengthSmoothed, D = k.smoothedDuration;
-  add("dimensionless_jerk", "1", jerk && L > 0.0, L > 0.0 ? k.squaredJerkIntegral * std::pow(D, 5) / (L * L) : 0.0,
-      "integral of |jerk|^2 dt times duration^5 / path_length^2 (smoothed path)");
+  r.movements = std::move(k.movementList);
+  r.path = std::move(k.path);
   const bool forceSpan = f.span > 0.0, contact = f.contactTime > 0.0;
   add("contact_time", "s", forceSpan, f.contactTime, "time in contact (each sample held until the next)");
   add("force_integral", "N s", forceSpan, f.integral, "integral of |f| dt over the task");
@@ -114,6 +148,8 @@ AssessmentReport SessionAssessor::report() const {
   add("excessive_force_events", "1", forceCounts_.accepted > 0, static_cast<double>(f.events),
       "times |f| rose above force_threshold");
   add("excessive_force_time", "s", forceSpan, f.excessiveTime, "time with |f| above force_threshold");
+  add("excess_force_integral", "N s", forceSpan, f.excessIntegral,
+      "integral of (|f| - force_threshold) dt over the time above it");
   add("peak_strain", "1", statusCounts_.accepted > 0, peakStrain_,
       "largest max_strain (Green-Lagrange strain norm) of the tissue");
   add("peak_strained_volume", "m^3", statusCounts_.accepted > 0, peakStrainedVolume_,

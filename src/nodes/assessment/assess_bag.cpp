@@ -1,8 +1,10 @@
-// assess_bag BAG [--out DIR] [--config FILE] [--force-threshold N] ...: the training
-// assessment of a recorded session, computed by the same accumulator as the online node
-// from the messages' header stamps. Writes DIR/assessment.yaml and DIR/assessment.md and
-// prints a summary. Exit codes: 0 ok, 1 the report could not be written, 2 bad usage,
-// unreadable bag or missing topics (one line on stderr).
+// assess_bag BAG... [--out DIR] [--config FILE] [--bands FILE] [--force-threshold N] ...: the
+// training assessment of recorded sessions, computed by the same accumulator as the online
+// node from the messages' header stamps. One bag: writes DIR/assessment.yaml, assessment.md,
+// the series (CSV) and the plots (scripts/assessment_plots.py) and prints a summary. Several
+// bags (the sessions of one trainee, in order): one such folder per bag under DIR and a
+// learning curve (DIR/learning_curve.md, .csv, .png). Exit codes: 0 ok, 1 a report could not
+// be written (or plotted), 2 bad usage, unreadable bag or missing topics (one line on stderr).
 //
 // A bag without its index (the .bag.active a recorder killed with SIGKILL leaves) cannot be
 // opened by rosbag::Bag, which refuses unindexed bags: it is reindexed into a temporary copy
@@ -18,6 +20,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <filesystem>
 #include <fstream>
@@ -35,12 +38,23 @@
 namespace {
 
 const char* kUsage =
-    "usage: assess_bag BAG [--out DIR] [--config FILE] [--force-threshold N]\n"
-    "                  [--movement-speed-start V] [--movement-speed-stop V] [--resample-rate HZ]\n"
-    "                  [--smoothing-time S] [--max-gap S]\n"
-    "                  [--tip-topic T] [--contact-topic T] [--status-topic T]\n"
-    "  --out DIR      where assessment.yaml and assessment.md go (default: assessment)\n"
-    "  --config FILE  settings YAML (the node's config/assessment.yaml); flags override it\n";
+    "usage: assess_bag BAG... [--out DIR] [--config FILE] [--bands FILE|none] [--no-plots]\n"
+    "                  [--force-threshold N] [--movement-speed-start V] [--movement-speed-stop V]\n"
+    "                  [--movement-min-pause S] [--resample-rate HZ] [--smoothing-time S]\n"
+    "                  [--max-gap S] [--tip-topic T] [--contact-topic T] [--status-topic T]\n"
+    "  --out DIR      where the report goes (default: assessment); several bags: a folder per\n"
+    "                 bag under DIR and DIR/learning_curve.md\n"
+    "  --config FILE  settings YAML (the node's config/assessment.yaml); flags override it\n"
+    "  --bands FILE   expert/novice reference bands to score against (default:\n"
+    "                 config/assessment_bands.yaml of the package; none: no score)\n"
+    "  --no-plots     write no PNG plots\n";
+
+#ifndef TT_DEFAULT_BANDS
+#define TT_DEFAULT_BANDS ""
+#endif
+#ifndef TT_PLOT_SCRIPT
+#define TT_PLOT_SCRIPT ""
+#endif
 
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -55,7 +69,9 @@ double parseNumber(const std::string& flag, const std::string& text) {
 }
 
 struct Options {
-  std::string bag, out = "assessment", config;
+  std::vector<std::string> bags;
+  std::string out = "assessment", config, bands = TT_DEFAULT_BANDS;
+  bool plots = true;
   std::map<std::string, double> numbers;  // flag -> value, applied over the config file
   tt::SessionTopics topics;
 };
@@ -63,9 +79,10 @@ struct Options {
 Options parse(int argc, char** argv) {
   Options o;
   const std::vector<std::string> numeric = {"--force-threshold", "--movement-speed-start",
-                                            "--movement-speed-stop", "--resample-rate",
-                                            "--smoothing-time", "--max-gap"};
+                                            "--movement-speed-stop", "--movement-min-pause",
+                                            "--resample-rate", "--smoothing-time", "--max-gap"};
   std::map<std::string, std::string*> text = {{"--out", &o.out}, {"--config", &o.config},
+                                              {"--bands", &o.bands},
                                               {"--tip-topic", &o.topics.tip},
                                               {"--contact-topic", &o.topics.contact},
                                               {"--status-topic", &o.topics.status}};
@@ -79,15 +96,15 @@ Options parse(int argc, char** argv) {
         o.numbers[arg] = parseNumber(arg, value);
       else
         *text[arg] = value;
+    } else if (arg == "--no-plots") {
+      o.plots = false;
     } else if (!arg.empty() && arg[0] == '-') {
       throw UsageError("unknown option '" + arg + "'");
-    } else if (o.bag.empty()) {
-      o.bag = arg;
     } else {
-      throw UsageError("one bag expected, got '" + o.bag + "' and '" + arg + "'");
+      o.bags.push_back(arg);
     }
   }
-  if (o.bag.empty()) throw UsageError("missing BAG");
+  if (o.bags.empty()) throw UsageError("missing BAG");
   const tt::SessionTopics& t = o.topics;
   if (t.tip == t.contact || t.tip == t.status || t.contact == t.status)
     throw UsageError("the tip, contact and status topics must differ");
@@ -98,7 +115,8 @@ tt::AssessmentSettings settingsOf(const Options& o) {
   tt::AssessmentSettings s = o.config.empty() ? tt::AssessmentSettings{} : tt::loadAssessmentSettings(o.config);
   const std::map<std::string, double*> fields = {
       {"--force-threshold", &s.forceThreshold}, {"--movement-speed-start", &s.movementSpeedStart},
-      {"--movement-speed-stop", &s.movementSpeedStop}, {"--resample-rate", &s.resampleRate},
+      {"--movement-speed-stop", &s.movementSpeedStop}, {"--movement-min-pause", &s.movementMinPause},
+      {"--resample-rate", &s.resampleRate},
       {"--smoothing-time", &s.smoothingTime}, {"--max-gap", &s.maxGap}};
   for (const auto& [flag, value] : o.numbers) *fields.at(flag) = value;
   try {
@@ -206,14 +224,82 @@ boost::shared_ptr<T> instance(const rosbag::MessageInstance& m, const std::strin
   return msg;
 }
 
+// Reads the session topics of one bag into a report; throws naming what is wrong.
+tt::AssessmentReport assessBag(const std::string& path, const Options& options,
+                               const tt::AssessmentSettings& settings, std::size_t& messages) {
+  tt::SessionFeeder feeder(settings);
+  messages = 0;
+  try {
+    rosbag::Bag bag;
+    std::unique_ptr<TemporaryFolder> tmp;
+    openBag(bag, path, tmp);
+    checkTopics(bag, path, options.topics);
+    const tt::SessionTopics& t = options.topics;
+    rosbag::View view(bag, rosbag::TopicQuery({t.tip, t.contact, t.status}));
+    for (const rosbag::MessageInstance& m : view) {
+      ++messages;
+      if (m.getTopic() == t.tip)
+        feeder.feed(*instance<geometry_msgs::PoseStamped>(m, path));
+      else if (m.getTopic() == t.contact)
+        feeder.feed(*instance<tissue_trainer::ContactModel>(m, path));
+      else
+        feeder.feed(*instance<tissue_trainer::TissueStatus>(m, path));
+    }
+  } catch (const rosbag::BagException& e) {
+    throw std::runtime_error(path + ": cannot read the bag (" + e.what() + ")");
+  }
+  return feeder.report();
+}
+
+// Runs `/usr/bin/python3 SCRIPT MODE DIR`; false (after saying why on stderr) when it fails.
+bool runPlots(const std::string& mode, const std::string& dir) {
+  const char* env = std::getenv("TT_ASSESSMENT_PLOTS");
+  const std::string script = env && *env ? env : TT_PLOT_SCRIPT;
+  if (script.empty() || !fs::exists(script)) {
+    std::fprintf(stderr, "assess_bag: no plots: the plotting script '%s' is missing (set TT_ASSESSMENT_PLOTS)\n",
+                 script.c_str());
+    return false;
+  }
+  std::fflush(stdout);
+  const pid_t pid = fork();
+  if (pid < 0) return false;
+  if (pid == 0) {
+    // Debian's interpreter, where python3-matplotlib is (not a python3 earlier on PATH).
+    execl("/usr/bin/python3", "python3", script.c_str(), mode.c_str(), dir.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  int status = 0;
+  const bool ok = waitpid(pid, &status, 0) == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  if (!ok)
+    std::fprintf(stderr, "assess_bag: %s: the plots failed (python3 %s %s, exit %d)\n", dir.c_str(),
+                 script.c_str(), mode.c_str(), WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+  return ok;
+}
+
+// "NN_stem" for the folder of the i-th of several bags.
+std::string sessionFolder(std::size_t index, const std::string& bag) {
+  char prefix[32];
+  std::snprintf(prefix, sizeof prefix, "%02zu_", index + 1);
+  std::string stem = fs::path(bag).filename().string();
+  for (const char* ext : {".active", ".bag"})
+    if (stem.size() > std::strlen(ext) && stem.compare(stem.size() - std::strlen(ext), std::string::npos, ext) == 0)
+      stem.erase(stem.size() - std::strlen(ext));
+  return prefix + stem;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   Options options;
   tt::AssessmentSettings settings;
+  tt::ReferenceBands bands;
   try {
     options = parse(argc, argv);
     settings = settingsOf(options);
+    if (options.bands != "none") {
+      if (options.bands.empty()) throw UsageError("--bands: no default bands file in this build; give one or 'none'");
+      bands = tt::loadReferenceBands(options.bands);
+    }
   } catch (const UsageError& e) {
     std::fprintf(stderr, "assess_bag: %s\n%s", e.what(), kUsage);
     return 2;
@@ -221,41 +307,56 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "assess_bag: %s\n", e.what());
     return 2;
   }
+  const bool scored = options.bands != "none";
 
-  tt::SessionFeeder feeder(settings);
-  std::size_t messages = 0;
+  // Read every bag first: a bad one stops before anything is written.
+  std::vector<tt::SessionResult> sessions;
+  std::vector<std::size_t> messages(options.bags.size());
   try {
-    rosbag::Bag bag;
-    std::unique_ptr<TemporaryFolder> tmp;
-    openBag(bag, options.bag, tmp);
-    checkTopics(bag, options.bag, options.topics);
-    const tt::SessionTopics& t = options.topics;
-    rosbag::View view(bag, rosbag::TopicQuery({t.tip, t.contact, t.status}));
-    for (const rosbag::MessageInstance& m : view) {
-      ++messages;
-      if (m.getTopic() == t.tip)
-        feeder.feed(*instance<geometry_msgs::PoseStamped>(m, options.bag));
-      else if (m.getTopic() == t.contact)
-        feeder.feed(*instance<tissue_trainer::ContactModel>(m, options.bag));
-      else
-        feeder.feed(*instance<tissue_trainer::TissueStatus>(m, options.bag));
+    for (std::size_t i = 0; i < options.bags.size(); ++i) {
+      tt::SessionResult r;
+      r.label = options.bags[i];
+      r.dir = options.bags.size() == 1 ? "." : sessionFolder(i, options.bags[i]);
+      r.report = assessBag(options.bags[i], options, settings, messages[i]);
+      if (scored) r.score = tt::scoreAssessment(r.report, bands);
+      sessions.push_back(std::move(r));
     }
-  } catch (const rosbag::BagException& e) {
-    std::fprintf(stderr, "assess_bag: %s: cannot read the bag (%s)\n", options.bag.c_str(), e.what());
-    return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "assess_bag: %s\n", e.what());
     return 2;
   }
 
-  const tt::AssessmentReport report = feeder.report();
+  int status = 0;
   try {
-    const std::string yaml = tt::writeAssessment(report, options.out, options.bag);
-    std::printf("assess_bag: %s: %zu messages -> %s\n%s", options.bag.c_str(), messages, yaml.c_str(),
-                tt::assessmentSummary(report).c_str());
+    for (std::size_t i = 0; i < sessions.size(); ++i) {
+      const tt::SessionResult& r = sessions[i];
+      const std::string dir = (fs::path(options.out) / r.dir).lexically_normal().string();
+      const tt::SkillScore* score = scored ? &r.score : nullptr;
+      const std::string yaml = tt::writeAssessment(r.report, dir, options.bags[i], score);
+      std::printf("assess_bag: %s: %zu messages -> %s\n", options.bags[i].c_str(), messages[i], yaml.c_str());
+      if (options.plots) {
+        if (runPlots("report", dir))
+          tt::writeAssessmentMarkdown(r.report, dir, options.bags[i], score);
+        else
+          status = 1;
+      }
+      std::printf("%s", tt::assessmentSummary(r.report, score).c_str());
+    }
+    if (sessions.size() > 1) {
+      fs::create_directories(options.out);
+      const fs::path dir(options.out);
+      std::ofstream((dir / "learning_curve.csv").string()) << tt::learningCurveCsv(sessions);
+      const bool plotted = options.plots && runPlots("curve", options.out);
+      if (options.plots && !plotted) status = 1;
+      std::ofstream md((dir / "learning_curve.md").string());
+      md << tt::learningCurveMarkdown(sessions, plotted);
+      if (!md) throw std::runtime_error((dir / "learning_curve.md").string() + ": cannot write the file");
+      std::printf("assess_bag: learning curve of %zu sessions -> %s\n", sessions.size(),
+                  (dir / "learning_curve.md").string().c_str());
+    }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "assess_bag: %s\n", e.what());
     return 1;
   }
-  return 0;
+  return status;
 }

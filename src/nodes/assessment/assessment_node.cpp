@@ -1,6 +1,7 @@
 // Online training assessment: feeds the tool tip, contact and tissue status topics into the
 // core accumulator, publishes the running report (YAML) on /assessment/summary, and writes
-// assessment.yaml + assessment.md to ~output_dir on ~write and on shutdown.
+// assessment.yaml + assessment.md (scored against ~reference_bands) and the series CSV files
+// to ~output_dir on ~write and on shutdown. The plots are made by assess_bag from the bag.
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <std_msgs/String.h>
@@ -31,7 +32,10 @@ class AssessmentNode {
 
   // Returns the YAML path written.
   std::string write() const {
-    return tt::writeAssessment(feeder_.report(), params_.outputDir, "online");
+    const tt::AssessmentReport report = feeder_.report();
+    if (!params_.scored) return tt::writeAssessment(report, params_.outputDir, "online");
+    const tt::SkillScore score = tt::scoreAssessment(report, params_.bands);
+    return tt::writeAssessment(report, params_.outputDir, "online", &score);
   }
 
  private:

@@ -22,6 +22,19 @@ AssessmentNodeParams readAssessmentNodeParams(const ros::NodeHandle& nh) {
   out.outputDir = p.text("output_dir", out.outputDir);
   if (out.outputDir.empty())
     throw tt_nodes::ParamError(p.qualified("output_dir") + ": expected a non-empty directory path");
+  // The package's bands unless told otherwise; "none": no score.
+#ifndef TT_DEFAULT_BANDS
+#define TT_DEFAULT_BANDS ""
+#endif
+  const std::string bands = p.text("reference_bands", TT_DEFAULT_BANDS);
+  out.scored = bands != "none";
+  if (out.scored) {
+    try {
+      out.bands = loadReferenceBands(bands);
+    } catch (const std::exception& e) {
+      throw tt_nodes::ParamError(p.qualified("reference_bands") + ": " + e.what());
+    }
+  }
   return out;
 }
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "tissue_trainer/core/assess/assessment_settings.h"
+#include "tissue_trainer/core/assess/skill_score.h"
 
 namespace tt {
 
@@ -12,6 +13,8 @@ struct AssessmentNodeParams {
   AssessmentSettings settings;
   std::string outputDir = "assessment";  // relative to the node's working directory (ROS_HOME)
   double summaryRate = 1.0;              // Hz
+  bool scored = false;                   // ~reference_bands is not "none"
+  ReferenceBands bands;                  // read from ~reference_bands
 };
 
 // Throws tt_nodes::ParamError "/node/KEY: expected ..., got ..." for the first bad one.

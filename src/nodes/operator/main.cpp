@@ -28,6 +28,7 @@ namespace {
 using tt_nodes::monotonicSeconds;
 
 constexpr int kMaxLagTicks = 100;  // a tick this many periods late restarts the deadlines
+constexpr double kMaxStampLag = 0.05;  // s a message's stamp may trail the wall clock
 
 struct Settings {
   std::string task;
@@ -93,6 +94,10 @@ class Operator {
     const long enableEvery = std::max(1L, std::lround(settings_.rate / 100.0));  // ~100 Hz
     tt_nodes::PeriodicClock clock(dt);
     const double start = monotonicSeconds();
+    // The hand's state after tick k is the state at origin + k dt: the messages carry that
+    // time, not the time they happen to be sent, so a late tick (a busy machine) and the
+    // catch-up after it do not show as jumps of the tip's speed in the recorded session.
+    ros::Time origin = ros::Time::now();
     std::string phase;
     for (long tick = 0; ros::ok(); ++tick) {
       ros::spinOnce();
@@ -104,7 +109,12 @@ class Operator {
       const Eigen::Vector3d force =
           running && now - forceTime_ <= settings_.forceTimeout ? force_ : Eigen::Vector3d::Zero();
       hand_.step(target.tip, target.tipVelocity, force, dt);
-      step(target.jaw, dt);
+      // A tick more than kMaxStampLag behind the wall clock moves the stamps' origin up, so a
+      // long stall never makes the pose look old to the simulation (its tool timeout: 0.2 s).
+      const ros::Time wall = ros::Time::now();
+      if ((wall - (origin + ros::Duration(tick * dt))).toSec() > kMaxStampLag)
+        origin = wall - ros::Duration(tick * dt);
+      step(target.jaw, dt, origin + ros::Duration(tick * dt));
       if (running && *target.phase != phase) {
         phase = *target.phase;
         ROS_INFO("operator: t = %.2f s, phase %s", t, phase.c_str());
@@ -124,7 +134,10 @@ class Operator {
           break;
         }
       }
-      if (clock.waitNext(kMaxLagTicks)) ++resyncs_;
+      if (clock.waitNext(kMaxLagTicks)) {  // the deadlines restart from now, and so do the stamps
+        ++resyncs_;
+        origin = ros::Time::now() - ros::Duration((tick + 1) * dt);
+      }
     }
   }
 
@@ -148,7 +161,7 @@ class Operator {
   }
 
   // IK of the hand position, then publish the device's joints and tip pose.
-  void step(double jaw, double dt) {
+  void step(double jaw, double dt, const ros::Time& stamp) {
     const Eigen::VectorXd previous = q_;
     const kin::IkResult ik = kin::solveTipPosition(chain_, hand_.position(), q_, ik_);
     q_ = ik.q;
@@ -157,7 +170,6 @@ class Operator {
       ++unreachable_;
       ROS_WARN_THROTTLE(2.0, "operator: hand %.4f m out of reach (%lu ticks so far)", ik.error, unreachable_);
     }
-    const ros::Time stamp = ros::Time::now();
     js_.header.stamp = stamp;
     for (int i = 0; i < chain_.numVariables(); ++i) {
       js_.position[i] = q_[i];

@@ -1,5 +1,6 @@
 #include "instrument_shapes.h"
 
+#include <cmath>
 #include <stdexcept>
 
 #include <urdf_parser/urdf_parser.h>
@@ -74,18 +75,34 @@ std::vector<Shape> shapesFromUrdf(const std::string& urdfXml) {
 }
 
 std::vector<Shape> defaultInstrument(const std::string& tipFrame, double shaftLength) {
-  std::vector<Shape> shapes(3);
-  shapes[0].link = tipFrame;  // shaft, 5 mm, ending at the jaw pivot
+  const Rgb steelGrey{0.72f, 0.74f, 0.78f}, jawGrey{0.30f, 0.31f, 0.34f};
+  std::vector<Shape> shapes(4);
+  shapes[0].link = tipFrame;  // shaft, 5 mm, ending 3 mm behind the jaw pivot
   shapes[0].size = Eigen::Vector3d(0.0025, shaftLength, 0.0);
-  shapes[0].origin.translation() = Eigen::Vector3d(0.0, 0.0, -0.5 * shaftLength);
-  for (int j = 1; j <= 2; ++j) {  // two jaws ahead of the pivot
-    shapes[j].link = tipFrame;
-    shapes[j].type = Shape::kBox;
-    shapes[j].size = Eigen::Vector3d(0.0018, 0.0012, 0.012);
-    shapes[j].origin.translation() = Eigen::Vector3d(0.0, j == 1 ? 0.001 : -0.001, 0.006);
-    shapes[j].color = Rgb{0.35f, 0.36f, 0.40f};
+  shapes[0].origin.translation() = Eigen::Vector3d(0.0, 0.0, -0.003 - 0.5 * shaftLength);
+  shapes[0].color = steelGrey;
+  shapes[1].link = tipFrame;  // the clevis holding the jaw pivot
+  shapes[1].size = Eigen::Vector3d(0.0022, 0.006, 0.0);
+  shapes[1].origin.translation() = Eigen::Vector3d(0.0, 0.0, -0.003);
+  shapes[1].color = Rgb{0.55f, 0.56f, 0.60f};
+  for (int j = 2; j <= 3; ++j) {  // two jaws ahead of the pivot, as the URDF's
+    Shape& jaw = shapes[j];
+    jaw.link = tipFrame;
+    jaw.type = Shape::kBox;
+    jaw.jawSide = j == 2 ? 1 : -1;
+    jaw.size = Eigen::Vector3d(0.004, 0.0016, 0.018);
+    jaw.origin.translation() = Eigen::Vector3d(0.0, jaw.jawSide * 0.0008, 0.009);
+    jaw.color = jawGrey;
   }
   return shapes;
+}
+
+Eigen::Isometry3d defaultInstrumentLinkPose(const Shape& shape, const Eigen::Isometry3d& tipPose,
+                                            double jawAngle) {
+  if (shape.jawSide == 0 || !std::isfinite(jawAngle)) return tipPose;
+  Eigen::Isometry3d hinge = Eigen::Isometry3d::Identity();
+  hinge.linear() = Eigen::AngleAxisd(0.5 * jawAngle * shape.jawSide, -Eigen::Vector3d::UnitX()).toRotationMatrix();
+  return tipPose * hinge;
 }
 
 void drawShapes(OffscreenRenderer& r, const std::vector<Shape>& shapes,

@@ -18,13 +18,24 @@ struct Shape {
   Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  // in the link frame
   Eigen::Vector3d size = Eigen::Vector3d::Zero();    // cylinder: radius, length; box: x y z; sphere: r
   Rgb color{0.75f, 0.78f, 0.82f};
+  // Default instrument only: +1 / -1 for the upper / lower jaw, turned open by half the jaw
+  // angle each about the tip frame's x (as the URDF's mimic joints turn jaw_upper and
+  // jaw_lower); 0 for the rest.
+  int jawSide = 0;
 };
+
+// Where a shape's link frame is for the default instrument at tipPose with the jaws opened
+// by jawAngle (rad).
+Eigen::Isometry3d defaultInstrumentLinkPose(const Shape& shape, const Eigen::Isometry3d& tipPose,
+                                            double jawAngle);
 
 // Shapes of every link of the URDF text that has visual or collision geometry (meshes are
 // skipped). Throws std::runtime_error when the URDF does not parse.
 std::vector<Shape> shapesFromUrdf(const std::string& urdfXml);
 
-// A default laparoscopic grasper in the `tipFrame`: shaft of `shaftLength` behind the tip.
+// A default laparoscopic grasper in the `tipFrame`: shaft of `shaftLength` behind the tip, a
+// collar at its end, two 18 mm jaws hinged at the tip (pose them with
+// defaultInstrumentLinkPose).
 std::vector<Shape> defaultInstrument(const std::string& tipFrame, double shaftLength);
 
 // Draws the shapes, each at linkPose(shape.link) * shape.origin.

@@ -1,20 +1,142 @@
 #include "offscreen_renderer.h"
 
+#define GL_GLEXT_PROTOTYPES 1
 #include <GL/osmesa.h>
 #include <GL/gl.h>
+#include <GL/glext.h>
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 namespace tt_render {
 
 namespace {
 
-constexpr int kSegments = 24;  // around cylinders and spheres
+constexpr int kSegments = 24;        // around cylinders and spheres
+constexpr int kCavitySegments = 48;  // around the cavity (large on screen)
 
 void color(const Rgb& c) { glColor3f(c.r, c.g, c.b); }
 
+// Per-pixel lighting in eye coordinates. The light is at the scope tip (the eye); its
+// diffuse part falls off as 1 / (1 + (d / range)^2) (an inverse square law that stays finite
+// at the tip); the highlight is Blinn-Phong. The texture multiplies the surface colour by
+// 1 + amplitude (n - 1/2), n two octaves of value noise on the world position (so it sticks
+// to the tissue as it deforms only as far as the vertices move; enough for a mottled look).
+const char* kVertexShader = R"(#version 120
+uniform mat4 uModel;
+varying vec3 vEye;
+varying vec3 vNormal;
+varying vec3 vWorld;
+void main() {
+  vec4 eye = gl_ModelViewMatrix * gl_Vertex;
+  vEye = eye.xyz;
+  vNormal = gl_NormalMatrix * gl_Normal;
+  vWorld = (uModel * gl_Vertex).xyz;
+  gl_FrontColor = gl_Color;
+  gl_Position = gl_ProjectionMatrix * eye;
+}
+)";
+
+const char* kFragmentShader = R"(#version 120
+uniform float uIntensity, uRange, uAmbient, uVignette;
+uniform float uSpecular, uShininess, uTexture, uTextureScale;
+uniform vec2 uViewport;
+varying vec3 vEye;
+varying vec3 vNormal;
+varying vec3 vWorld;
+float cellValue(vec3 cell) {  // a pseudo-random value in [0, 1) per lattice cell, no sin()
+  vec3 q = fract(cell * vec3(0.1371, 0.2113, 0.1789) + vec3(0.31, 0.57, 0.73));
+  q += dot(q, q.zxy + 19.19);
+  return fract(q.x * q.y + q.z);
+}
+float valueNoise(vec3 p) {
+  vec3 cell = floor(p);
+  vec3 f = fract(p);
+  f = f * f * (3.0 - 2.0 * f);
+  float x00 = mix(cellValue(cell), cellValue(cell + vec3(1, 0, 0)), f.x);
+  float x10 = mix(cellValue(cell + vec3(0, 1, 0)), cellValue(cell + vec3(1, 1, 0)), f.x);
+  float x01 = mix(cellValue(cell + vec3(0, 0, 1)), cellValue(cell + vec3(1, 0, 1)), f.x);
+  float x11 = mix(cellValue(cell + vec3(0, 1, 1)), cellValue(cell + vec3(1, 1, 1)), f.x);
+  return mix(mix(x00, x10, f.y), mix(x01, x11, f.y), f.z);
+}
+void main() {
+  vec3 toLight = -vEye;  // the light is at the scope tip, the eye
+  float d = length(toLight);
+  vec3 l = toLight / max(d, 1e-6);
+  vec3 n = normalize(vNormal);
+  if (dot(n, l) < 0.0) n = -n;  // two-sided: the side the scope sees
+  float falloff = 1.0 / (1.0 + (d / uRange) * (d / uRange));
+  float diffuse = max(dot(n, l), 0.0);
+  float highlight = pow(max(dot(n, l), 0.0), uShininess);  // half vector = l: light at the eye
+  vec3 base = gl_Color.rgb;
+  if (uTexture > 0.0) {
+    float t = 0.65 * valueNoise(vWorld * uTextureScale) + 0.35 * valueNoise(vWorld * (3.1 * uTextureScale));
+    base *= 1.0 + uTexture * (t - 0.5);
+  }
+  vec3 c = base * (uAmbient + uIntensity * diffuse * falloff) + vec3(uSpecular * highlight * falloff * 2.0);
+  vec2 centre = 0.5 * uViewport;
+  float r = length(gl_FragCoord.xy - centre) / length(centre);
+  c *= 1.0 - uVignette * smoothstep(0.45, 1.0, r);
+  gl_FragColor = vec4(c, 1.0);
+}
+)";
+
+// The same light computed per vertex (Gouraud), for large smooth surfaces such as the
+// cavity wall that cover much of the image: the fragment shader then only applies the
+// vignette, which makes such a surface several times cheaper to fill in software (llvmpipe).
+const char* kVertexLitShader = R"(#version 120
+uniform float uIntensity, uRange, uAmbient;
+uniform float uSpecular, uShininess;
+void main() {
+  vec4 eye = gl_ModelViewMatrix * gl_Vertex;
+  float d = length(eye.xyz);
+  vec3 l = -eye.xyz / max(d, 1e-6);
+  vec3 n = normalize(gl_NormalMatrix * gl_Normal);
+  if (dot(n, l) < 0.0) n = -n;
+  float falloff = 1.0 / (1.0 + (d / uRange) * (d / uRange));
+  float diffuse = max(dot(n, l), 0.0);
+  float highlight = pow(diffuse, uShininess);
+  vec3 c = gl_Color.rgb * (uAmbient + uIntensity * diffuse * falloff) + vec3(uSpecular * highlight * falloff * 2.0);
+  gl_FrontColor = vec4(c, 1.0);
+  gl_Position = gl_ProjectionMatrix * eye;
+}
+)";
+
+const char* kVignetteShader = R"(#version 120
+uniform float uVignette;
+uniform vec2 uViewport;
+void main() {
+  vec2 centre = 0.5 * uViewport;
+  float r = length(gl_FragCoord.xy - centre) / length(centre);
+  gl_FragColor = vec4(gl_Color.rgb * (1.0 - uVignette * smoothstep(0.45, 1.0, r)), 1.0);
+}
+)";
+
+// Compiles one shader; 0 (and the log on stderr) when it fails.
+GLuint compile(GLenum type, const char* source) {
+  const GLuint shader = glCreateShader(type);
+  glShaderSource(shader, 1, &source, nullptr);
+  glCompileShader(shader);
+  GLint ok = GL_FALSE;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (ok == GL_TRUE) return shader;
+  char log[1024] = "";
+  glGetShaderInfoLog(shader, sizeof log, nullptr, log);
+  std::fprintf(stderr, "OffscreenRenderer: shader compile failed, using fixed-function lighting: %s\n", log);
+  glDeleteShader(shader);
+  return 0;
+}
+
 }  // namespace
+
+Material wetTissue() { return Material{0.55f, 60.0f, 0.35f, 400.0f}; }
+Material cavityWall() {
+  Material m{0.12f, 12.0f, 0.0f, 120.0f};
+  m.perVertex = true;
+  return m;
+}
+Material steel() { return Material{0.7f, 40.0f, 0.0f, 400.0f}; }
 
 struct OffscreenRenderer::Context {
   OSMesaContext gl = nullptr;
@@ -69,11 +191,76 @@ OffscreenRenderer::OffscreenRenderer(int width, int height)
   const GLfloat shininess = 24.0f, materialSpecular[] = {0.25f, 0.25f, 0.25f, 1.0f};
   glMaterialfv(GL_FRONT_AND_BACK, GL_SPECULAR, materialSpecular);
   glMaterialf(GL_FRONT_AND_BACK, GL_SHININESS, shininess);
+  buildProgram();
   setCamera(camera_);
 }
 
+namespace {
+
+// Links a program from two shader sources; 0 when anything fails (said on stderr).
+GLuint linkProgram(const char* vertex, const char* fragment) {
+  const GLuint vs = compile(GL_VERTEX_SHADER, vertex);
+  const GLuint fs = compile(GL_FRAGMENT_SHADER, fragment);
+  if (!vs || !fs) {
+    if (vs) glDeleteShader(vs);
+    if (fs) glDeleteShader(fs);
+    return 0;
+  }
+  const GLuint program = glCreateProgram();
+  glAttachShader(program, vs);
+  glAttachShader(program, fs);
+  glLinkProgram(program);
+  glDeleteShader(vs);
+  glDeleteShader(fs);
+  GLint ok = GL_FALSE;
+  glGetProgramiv(program, GL_LINK_STATUS, &ok);
+  if (ok == GL_TRUE) return program;
+  std::fprintf(stderr, "OffscreenRenderer: shader link failed, using fixed-function lighting\n");
+  glDeleteProgram(program);
+  return 0;
+}
+
+}  // namespace
+
+void OffscreenRenderer::buildProgram() {
+  if (!glGetString(GL_SHADING_LANGUAGE_VERSION)) return;  // no GLSL: fixed function
+  const GLuint pixel = linkProgram(kVertexShader, kFragmentShader);
+  const GLuint vertex = pixel ? linkProgram(kVertexLitShader, kVignetteShader) : 0;
+  if (!vertex) {
+    if (pixel) glDeleteProgram(pixel);
+    return;
+  }
+  program_ = pixel;
+  vertexProgram_ = vertex;
+}
+
+void OffscreenRenderer::applyMaterial(const Eigen::Isometry3d& model) {
+  if (!program_) {
+    const GLfloat spec[] = {material_.specular, material_.specular, material_.specular, 1.0f};
+    glMaterialfv(GL_FRONT_AND_BACK, GL_SPECULAR, spec);
+    glMaterialf(GL_FRONT_AND_BACK, GL_SHININESS, std::min(128.0f, material_.shininess));
+    return;
+  }
+  const GLuint p = material_.perVertex ? vertexProgram_ : program_;
+  glUseProgram(p);
+  const Eigen::Matrix4f m = model.matrix().cast<float>();
+  if (!material_.perVertex) glUniformMatrix4fv(glGetUniformLocation(p, "uModel"), 1, GL_FALSE, m.data());
+  glUniform1f(glGetUniformLocation(p, "uSpecular"), material_.specular);
+  glUniform1f(glGetUniformLocation(p, "uShininess"), material_.shininess);
+  glUniform1f(glGetUniformLocation(p, "uTexture"), material_.texture);
+  glUniform1f(glGetUniformLocation(p, "uTextureScale"), material_.textureScale);
+}
+
 OffscreenRenderer::~OffscreenRenderer() {
-  if (context_->gl) OSMesaDestroyContext(context_->gl);
+  if (context_->gl) {
+    if (program_) {
+      makeCurrent();
+      glUseProgram(0);
+      glDeleteProgram(program_);
+      glDeleteProgram(vertexProgram_);
+    }
+    OSMesaDestroyContext(context_->gl);
+  }
 }
 
 std::string OffscreenRenderer::glRenderer() const {
@@ -136,11 +323,22 @@ void OffscreenRenderer::beginFrame() {
   glLoadIdentity();
   const GLfloat headlight[] = {0.0f, 0.0f, 0.0f, 1.0f};  // at the eye, in eye coordinates
   glLightfv(GL_LIGHT0, GL_POSITION, headlight);
+  material_ = Material{};
+  for (const GLuint p : {program_, vertexProgram_}) {
+    if (!p) continue;
+    glUseProgram(p);
+    glUniform1f(glGetUniformLocation(p, "uIntensity"), float(lighting_.intensity));
+    glUniform1f(glGetUniformLocation(p, "uRange"), float(lighting_.range));
+    glUniform1f(glGetUniformLocation(p, "uAmbient"), float(lighting_.ambient));
+    glUniform1f(glGetUniformLocation(p, "uVignette"), float(lighting_.vignette));
+    glUniform2f(glGetUniformLocation(p, "uViewport"), float(width_), float(height_));
+  }
 }
 
 void OffscreenRenderer::loadModel(const Eigen::Isometry3d& pose) {
   const Eigen::Matrix4d m = viewMatrix() * pose.matrix();
   glLoadMatrixd(m.data());
+  applyMaterial(pose);
 }
 
 void OffscreenRenderer::drawMesh(const std::vector<float>& positions, const std::vector<float>& normals,
@@ -210,23 +408,40 @@ void OffscreenRenderer::drawBox(const Eigen::Isometry3d& pose, const Eigen::Vect
   glEnd();
 }
 
-void OffscreenRenderer::drawSphere(const Eigen::Isometry3d& pose, double radius, const Rgb& c) {
-  loadModel(pose);
-  color(c);
-  const int rings = kSegments / 2;
+void OffscreenRenderer::sphereStrip(const Eigen::Vector3d& radii, bool inward) {
+  const int segments = inward ? kCavitySegments : kSegments, rings = segments / 2;
+  const double sign = inward ? -1.0 : 1.0;
   for (int i = 0; i < rings; ++i) {
     const double t0 = M_PI * i / rings, t1 = M_PI * (i + 1) / rings;
     glBegin(GL_QUAD_STRIP);
-    for (int j = 0; j <= kSegments; ++j) {
-      const double p = 2.0 * M_PI * j / kSegments;
+    for (int j = 0; j <= segments; ++j) {
+      const double p = sign * 2.0 * M_PI * j / segments;  // inward: the other winding
       for (double t : {t0, t1}) {
-        const Eigen::Vector3d n(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
+        const Eigen::Vector3d u(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
+        // The ellipsoid's normal: the gradient of sum (x_i / r_i)^2.
+        const Eigen::Vector3d n = sign * u.cwiseQuotient(radii).normalized();
         glNormal3d(n.x(), n.y(), n.z());
-        glVertex3d(radius * n.x(), radius * n.y(), radius * n.z());
+        glVertex3d(radii.x() * u.x(), radii.y() * u.y(), radii.z() * u.z());
       }
     }
     glEnd();
   }
+}
+
+void OffscreenRenderer::drawSphere(const Eigen::Isometry3d& pose, double radius, const Rgb& c) {
+  loadModel(pose);
+  color(c);
+  sphereStrip(Eigen::Vector3d::Constant(radius), false);
+}
+
+void OffscreenRenderer::drawCavity(const Eigen::Vector3d& centre, const Eigen::Vector3d& radii, const Rgb& c) {
+  if (!(radii.minCoeff() > 0.0) || !radii.allFinite() || !centre.allFinite())
+    throw std::invalid_argument("OffscreenRenderer::drawCavity: expected a finite centre and positive radii");
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = centre;
+  loadModel(pose);
+  color(c);
+  sphereStrip(radii, true);
 }
 
 void OffscreenRenderer::readRgb(std::vector<std::uint8_t>& rgb) {

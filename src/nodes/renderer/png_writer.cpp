@@ -8,9 +8,9 @@
 
 namespace tt_render {
 
-void writePng(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb) {
-  if (rgb.size() != std::size_t(width) * height * 3)
-    throw std::runtime_error("writePng: " + path + ": image size does not match the data");
+namespace {
+
+void writePngFile(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb) {
   std::unique_ptr<FILE, int (*)(FILE*)> file(std::fopen(path.c_str(), "wb"), &std::fclose);
   if (!file) throw std::runtime_error("writePng: cannot open " + path + " for writing");
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
@@ -32,6 +32,27 @@ void writePng(const std::string& path, int width, int height, const std::vector<
     png_write_row(png, const_cast<png_bytep>(&rgb[std::size_t(row) * width * 3]));
   png_write_end(png, nullptr);
   png_destroy_write_struct(&png, &info);
+  if (std::fflush(file.get()) != 0) throw std::runtime_error("writePng: cannot write " + path);
+}
+
+}  // namespace
+
+// Written beside the target and renamed over it, so that a reader (a viewer, a test) never
+// sees a partly written frame.
+void writePng(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb) {
+  if (rgb.size() != std::size_t(width) * height * 3)
+    throw std::runtime_error("writePng: " + path + ": image size does not match the data");
+  const std::string partial = path + ".partial";
+  try {
+    writePngFile(partial, width, height, rgb);
+  } catch (...) {
+    std::remove(partial.c_str());
+    throw;
+  }
+  if (std::rename(partial.c_str(), path.c_str()) != 0) {
+    std::remove(partial.c_str());
+    throw std::runtime_error("writePng: cannot rename " + partial + " to " + path);
+  }
 }
 
 }  // namespace tt_render

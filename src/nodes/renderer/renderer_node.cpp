@@ -1,11 +1,13 @@
-// renderer: the deformed tissue surface and the instrument, rendered offscreen (OSMesa) from
-// a fixed laparoscope camera, published on /camera/image_raw (rgb8) and optionally written
-// as PNG frames.
+// renderer: the deformed tissue surface and the instrument inside the abdominal cavity,
+// rendered offscreen (OSMesa) from a fixed laparoscope camera whose light sits at its tip,
+// published on /camera/image_raw (rgb8) and optionally written as PNG frames.
 #include <ros/ros.h>
 
+#include <sys/resource.h>
 #include <sys/stat.h>
 
 #include <cerrno>
+#include <cmath>
 #include <chrono>
 #include <cstring>
 #include <cstdio>
@@ -14,6 +16,7 @@
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <sensor_msgs/Image.h>
+#include <sensor_msgs/JointState.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 
@@ -46,8 +49,13 @@ struct RendererParams {
   tt_render::Camera camera;
   std::string pngDir;
   int pngEvery = 30;
+  int nice = 10;
   InstrumentSource instrument = InstrumentSource::kAuto;
   double shaftLength = 0.3;
+  tt_render::Lighting lighting;
+  double tissueTexture = tt_render::wetTissue().texture;
+  Eigen::Vector3d cavityCentre{-0.036, 0.06, 0.03};
+  Eigen::Vector3d cavityRadii{0.2, 0.16, 0.25};  // zero: no cavity; the camera and trocar inside
 };
 
 RendererParams readParams(const ros::NodeHandle& pnh) {
@@ -63,8 +71,20 @@ RendererParams readParams(const ros::NodeHandle& pnh) {
   r.camera.fovDeg = p.number("fov_deg", d.fovDeg, 1.0, 170.0);
   r.pngDir = p.text("png_dir", "");
   r.pngEvery = static_cast<int>(p.number("png_every", 30, 1, 1e9));
+  r.nice = static_cast<int>(p.number("nice", 10, 0, 19));
   r.instrument = static_cast<InstrumentSource>(p.choice("instrument", {"auto", "tf", "pose", "none"}, 0));
   r.shaftLength = p.number("shaft_length", 0.3, 0.001, 2.0);
+  r.lighting.intensity = p.number("light_intensity", r.lighting.intensity, 0.0, 100.0);
+  r.lighting.range = p.number("light_range", r.lighting.range, 1e-4, 100.0);
+  r.lighting.ambient = p.number("ambient", r.lighting.ambient, 0.0, 1.0);
+  r.lighting.vignette = p.number("vignette", r.lighting.vignette, 0.0, 1.0);
+  r.tissueTexture = p.number("tissue_texture", r.tissueTexture, 0.0, 1.0);
+  const RendererParams d2;
+  r.cavityCentre = vec(p.vector3("cavity_center", {d2.cavityCentre.x(), d2.cavityCentre.y(), d2.cavityCentre.z()}));
+  r.cavityRadii = vec(p.vector3("cavity_radii", {d2.cavityRadii.x(), d2.cavityRadii.y(), d2.cavityRadii.z()}));
+  const bool noCavity = r.cavityRadii.isZero(0.0);
+  if (!noCavity && !(r.cavityRadii.minCoeff() > 0.0))
+    throw tt_nodes::ParamError(p.qualified("cavity_radii") + ": expected three positive semi-axes (m), or all zero for no cavity");
   return r;
 }
 
@@ -88,10 +108,14 @@ class RendererNode {
     } else if (params_.instrument != InstrumentSource::kNone) {
       shapes_ = tt_render::defaultInstrument("instrument_tip", params_.shaftLength);
       poseSub_ = nh.subscribe("instrument/measured_cp", 5, &RendererNode::onPose, this);
-      ROS_INFO("renderer: instrument from /instrument/measured_cp");
+      jawSub_ = nh.subscribe("instrument/jaw/measured_js", 5, &RendererNode::onJaw, this);
+      ROS_INFO("renderer: instrument from /instrument/measured_cp and /instrument/jaw/measured_js");
     }
     if (!params_.pngDir.empty() && ::mkdir(params_.pngDir.c_str(), 0755) != 0 && errno != EEXIST)
       throw tt_nodes::ParamError("~png_dir: cannot create " + params_.pngDir + ": " + std::strerror(errno));
+    renderer_.setLighting(params_.lighting);
+    ROS_INFO("renderer: %s, %s", renderer_.glRenderer().c_str(),
+             renderer_.shaded() ? "per-pixel scope light" : "no GLSL: fixed-function headlight");
     surfaceSub_ = nh.subscribe("tissue/surface", 5, &RendererNode::onSurface, this);
     imagePub_ = nh.advertise<sensor_msgs::Image>("camera/image_raw", 2);
     publishCameraFrame();
@@ -110,6 +134,10 @@ class RendererNode {
         break;
       }
     if (!positions_.empty()) normals_ = tt_render::vertexNormals(positions_, triangles_);
+  }
+
+  void onJaw(const sensor_msgs::JointState::ConstPtr& msg) {
+    if (!msg->position.empty() && std::isfinite(msg->position[0])) jawAngle_ = msg->position[0];
   }
 
   void onPose(const geometry_msgs::PoseStamped::ConstPtr& msg) {
@@ -156,7 +184,7 @@ class RendererNode {
         }
       } else {
         if (!havePose_) continue;
-        poses.push_back(tipPose_);
+        poses.push_back(tt_render::defaultInstrumentLinkPose(s, tipPose_, jawAngle_));
       }
       drawn.push_back(s);
     }
@@ -166,11 +194,20 @@ class RendererNode {
   void renderFrame() {
     const auto start = std::chrono::steady_clock::now();
     renderer_.beginFrame();
-    if (!positions_.empty() && !triangles_.empty())
+    if (!positions_.empty() && !triangles_.empty()) {
+      tt_render::Material tissue = tt_render::wetTissue();
+      tissue.texture = static_cast<float>(params_.tissueTexture);
+      renderer_.setMaterial(tissue);
       renderer_.drawMesh(positions_, normals_, triangles_, Rgb{0.62f, 0.22f, 0.18f});
+    }
     std::vector<tt_render::Shape> drawn;
     const std::vector<Eigen::Isometry3d> poses = linkPoses(drawn);
+    renderer_.setMaterial(tt_render::steel());
     tt_render::drawShapes(renderer_, drawn, poses);
+    if (!params_.cavityRadii.isZero(0.0)) {  // last: the depth test skips what is hidden
+      renderer_.setMaterial(tt_render::cavityWall());
+      renderer_.drawCavity(params_.cavityCentre, params_.cavityRadii, Rgb{0.78f, 0.42f, 0.38f});
+    }
 
     sensor_msgs::Image img;
     img.header.stamp = ros::Time::now();
@@ -205,7 +242,7 @@ class RendererNode {
   tf2_ros::Buffer tfBuffer_;
   tf2_ros::TransformListener listener_;
   tf2_ros::StaticTransformBroadcaster staticBroadcaster_;
-  ros::Subscriber surfaceSub_, poseSub_;
+  ros::Subscriber surfaceSub_, poseSub_, jawSub_;
   ros::Publisher imagePub_;
   ros::WallTimer timer_;
 
@@ -215,6 +252,7 @@ class RendererNode {
   bool useTf_ = false;
   Eigen::Isometry3d tipPose_ = Eigen::Isometry3d::Identity();
   bool havePose_ = false;
+  double jawAngle_ = 0.0;
   long frame_ = 0;
   double renderSeconds_ = 0.0;
 };
@@ -226,6 +264,10 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh, pnh("~");
   try {
     const RendererParams params = readParams(pnh);
+    // Below the haptic bridge and the simulation: on a busy machine the frame rate drops, not
+    // the force loop. Before the GL context exists, so llvmpipe's threads inherit it.
+    if (params.nice > 0 && setpriority(PRIO_PROCESS, 0, getpriority(PRIO_PROCESS, 0) + params.nice) != 0)
+      ROS_WARN("renderer: cannot lower its priority (~nice %d): %s", params.nice, std::strerror(errno));
     RendererNode node(nh, params);
     ros::spin();  // one thread: the GL context stays on it
   } catch (const tt_nodes::ParamError& e) {

@@ -5,6 +5,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -56,8 +57,9 @@ TEST(Assess, StraightLineAtConstantSpeed) {
   EXPECT_NEAR(metric(r, "path_length_smoothed"), 0.0995, 1e-9);
   EXPECT_NEAR(metric(r, "motion_time"), 1.99, 1e-9);  // first to last grid point
   EXPECT_LT(metric(r, "mean_squared_jerk"), 1e-12);
-  EXPECT_LT(metric(r, "dimensionless_jerk"), 1e-6);
-  EXPECT_TRUE(hasData(r, "dimensionless_jerk"));
+  EXPECT_NEAR(metric(r, "economy_of_motion"), 1.0, 1e-9);
+  EXPECT_NEAR(metric(r, "peak_speed_median"), 0.05, 1e-9);
+  EXPECT_NEAR(metric(r, "idle_time"), 0.0, 1e-12);
 }
 
 TEST(Assess, NoisyLineStaysSmooth) {
@@ -71,20 +73,115 @@ TEST(Assess, NoisyLineStaysSmooth) {
   EXPECT_LT(metric(r, "mean_squared_jerk"), 0.1 * 0.1125);
 }
 
-TEST(Assess, MinimumJerkReach) {
-  // x(t) = A (10 s^3 - 15 s^4 + 6 s^5), s = t / T: integral of jerk^2 = 720 A^2 / T^5, so the
-  // dimensionless jerk (T^5 / A^2 times that) is 720; one movement.
-  const double A = 0.1, T = 2.0;
-  SessionAssessor a{AssessmentSettings{}};
-  for (int i = 0; i <= 2000; ++i) {
-    const double s = i / 2000.0;
-    a.addTip(i / 1000.0, Vector3d(A * (10 * std::pow(s, 3) - 15 * std::pow(s, 4) + 6 * std::pow(s, 5)), 0, 0));
+// Minimum-jerk profile s(u) = 10u^3 - 15u^4 + 6u^5 and its third derivative.
+double minimumJerk(double u) { return 10 * std::pow(u, 3) - 15 * std::pow(u, 4) + 6 * std::pow(u, 5); }
+double minimumJerkJerk(double u) { return 60 - 360 * u + 360 * u * u; }
+
+// The dimensionless jerk (1/2 integral of |d3x/dt3|^2 dt) T^5 / A^2 of a minimum-jerk reach of
+// amplitude A in time T, by Simpson's rule on the analytic jerk (A / T^3) s'''(t / T).
+double minimumJerkDimensionlessJerk(double A, double T) {
+  const int n = 2000;  // even
+  double sum = 0.0;
+  for (int i = 0; i <= n; ++i) {
+    const double u = double(i) / n, j = A / std::pow(T, 3) * minimumJerkJerk(u);
+    sum += (i == 0 || i == n ? 1.0 : (i % 2 ? 4.0 : 2.0)) * j * j;
   }
-  const AssessmentReport r = a.report();
-  EXPECT_EQ(metric(r, "movements"), 1.0);
+  const double integral = sum * (T / n) / 3.0;
+  return 0.5 * integral * std::pow(T, 5) / (A * A);
+}
+
+// A reach of A metres in T seconds, starting at `rest` s and resting `rest` s after, sampled
+// at 1 kHz.
+AssessmentReport reach(double A, double T, double rest, const AssessmentSettings& s = AssessmentSettings{}) {
+  SessionAssessor a{s};
+  const Vector3d dir = Vector3d(2, -1, 2) / 3.0;
+  const int n = static_cast<int>(std::lround((T + 2 * rest) * 1000));
+  for (int i = 0; i <= n; ++i) {
+    const double t = i / 1000.0, u = std::min(1.0, std::max(0.0, (t - rest) / T));
+    a.addTip(t, Vector3d(0.02, 0.05, 0.1) + A * minimumJerk(u) * dir);
+  }
+  return a.report();
+}
+
+TEST(Assess, MinimumJerkReach) {
+  // The analytic value: 1/2 of 720 A^2 / T^5 times T^5 / A^2 = 360, whatever A and T.
+  const double A = 0.1, T = 2.0;
+  const double analytic = minimumJerkDimensionlessJerk(A, T);
+  EXPECT_NEAR(analytic, 360.0, 1e-6);
+  EXPECT_NEAR(minimumJerkDimensionlessJerk(0.03, 0.7), analytic, 1e-6);
+
+  const AssessmentReport r = reach(A, T, 0.5);
+  ASSERT_EQ(metric(r, "movements"), 1.0);
+  ASSERT_EQ(r.movements.size(), 1u);
+  const Movement& m = r.movements[0];
   EXPECT_NEAR(metric(r, "path_length"), A, 1e-12);
-  EXPECT_NEAR(metric(r, "dimensionless_jerk"), 720.0, 0.05 * 720.0);
-  EXPECT_NEAR(metric(r, "mean_squared_jerk"), 720 * A * A / std::pow(T, 6), 0.05 * 720 * A * A / std::pow(T, 6));
+  EXPECT_NEAR(m.pathLength, A, 1e-4);
+  EXPECT_NEAR(m.chord, A, 1e-4);
+  EXPECT_NEAR(m.peakSpeed, 1.875 * A / T, 5e-3 * A / T);  // s'(1/2) = 15/8, a little smoothed
+  // The movement spans the reach (widened down to the rest speed), not only the part above
+  // the start and stop speeds (0.09 s shorter at each end for this reach).
+  EXPECT_NEAR(m.start, 0.5, 0.05);
+  EXPECT_NEAR(m.end, 0.5 + T, 0.05);
+  ASSERT_TRUE(m.hasJerk);
+  std::printf("[assess] minimum-jerk reach 0.1 m / 2 s: LDLJ %.4f (analytic %.4f), movement %.3f..%.3f s\n",
+              m.logDimensionlessJerk, -std::log(analytic), m.start, m.end);
+  EXPECT_NEAR(m.logDimensionlessJerk, -std::log(analytic), 0.05);
+  EXPECT_EQ(metric(r, "ldlj_median"), m.logDimensionlessJerk);
+  EXPECT_EQ(metric(r, "ldlj_worst"), m.logDimensionlessJerk);
+  EXPECT_NEAR(metric(r, "economy_of_motion"), 1.0, 1e-3);
+  // 720 A^2 / T^5 of squared jerk spread over the 3 s of the session (the smoothing takes
+  // some of it: 91 %).
+  EXPECT_NEAR(metric(r, "mean_squared_jerk"), 720 * A * A / std::pow(T, 5) / (T + 1.0),
+              0.1 * 720 * A * A / std::pow(T, 5) / (T + 1.0));
+}
+
+TEST(Assess, LogDimensionlessJerkIgnoresAmplitudeAndHardlyDuration) {
+  // Hogan and Sternad 2009: the measure must not change with the reach's size or speed. The
+  // size does not change it at all; the duration only through the smoothing (a 1 s reach
+  // reads 0.17 lower than a 2 s one).
+  const double base = reach(0.1, 2.0, 0.5).movements.at(0).logDimensionlessJerk;
+  for (double A : {0.02, 0.03, 0.3}) {
+    const AssessmentReport r = reach(A, 2.0, 0.5);
+    ASSERT_EQ(r.movements.size(), 1u) << A << " m";
+    EXPECT_NEAR(r.movements[0].logDimensionlessJerk, base, 1e-3) << A << " m";
+  }
+  for (double T : {1.0, 1.5, 3.0}) {
+    const AssessmentReport r = reach(0.05, T, 0.5);
+    ASSERT_EQ(r.movements.size(), 1u) << T << " s";
+    EXPECT_NEAR(r.movements[0].logDimensionlessJerk, -std::log(360.0), 0.2) << T << " s";
+  }
+}
+
+TEST(Assess, AnArrestInsideAReachLowersItsLogDimensionlessJerk) {
+  // 10 cm in two minimum-jerk halves of 1 s with an arrest of 0.05 s between them (the speed
+  // is below movement_speed_stop for about 0.15 s): one movement
+  // (the pause is shorter than movement_min_pause), far less smooth than one 2.1 s reach;
+  // with movement_min_pause 0 it is two smooth movements.
+  auto arrested = [](const AssessmentSettings& s) {
+    SessionAssessor a{s};
+    for (int i = 0; i <= 3050; ++i) {
+      const double t = i / 1000.0;
+      const double u1 = std::clamp(t - 0.5, 0.0, 1.0), u2 = std::clamp(t - 1.55, 0.0, 1.0);
+      a.addTip(t, Vector3d(0.05 * (minimumJerk(u1) + minimumJerk(u2)), 0, 0));
+    }
+    return a.report();
+  };
+  const AssessmentReport one = arrested(AssessmentSettings{});
+  ASSERT_EQ(one.movements.size(), 1u);
+  const double smooth = reach(0.1, 2.05, 0.5).movements.at(0).logDimensionlessJerk;
+  std::printf("[assess] reach with an arrest: LDLJ %.3f, without: %.3f\n",
+              one.movements[0].logDimensionlessJerk, smooth);
+  EXPECT_LT(one.movements[0].logDimensionlessJerk, smooth - 1.0);
+  EXPECT_NEAR(metric(one, "idle_time"), 0.0, 1e-12);
+
+  AssessmentSettings split;
+  split.movementMinPause = 0.0;
+  const AssessmentReport two = arrested(split);
+  ASSERT_EQ(two.movements.size(), 2u);
+  for (const Movement& m : two.movements) EXPECT_NEAR(m.logDimensionlessJerk, -std::log(360.0), 0.2);
+  // Each widened to the speed's minimum in the arrest, where they meet.
+  EXPECT_NEAR(two.movements[0].end, 1.525, 0.02);
+  EXPECT_NEAR(two.movements[1].start, two.movements[0].end, 1e-9);
 }
 
 TEST(Assess, MovementsWithHysteresis) {
@@ -102,6 +199,12 @@ TEST(Assess, MovementsWithHysteresis) {
   EXPECT_NEAR(metric(r, "path_length"), 0.06, 1e-12);
   EXPECT_GT(metric(r, "motion_time"), 2.3);
   EXPECT_LT(metric(r, "motion_time"), 2.6);
+  // Two rests of 0.5 s between the reaches, less what the smoothing (sigma 0.03 s) adds to
+  // each end of each reach.
+  EXPECT_GT(metric(r, "idle_time"), 0.7);
+  EXPECT_LE(metric(r, "idle_time"), 1.0);
+  EXPECT_GE(metric(r, "movement_duration_median"), 0.5);
+  EXPECT_LT(metric(r, "movement_duration_median"), 0.65);
 }
 
 TEST(Assess, ForceSquarePulse) {
@@ -119,6 +222,7 @@ TEST(Assess, ForceSquarePulse) {
   EXPECT_EQ(metric(r, "peak_force"), 2.0);
   EXPECT_EQ(metric(r, "excessive_force_events"), 1.0);
   EXPECT_NEAR(metric(r, "excessive_force_time"), 1.0, 1e-9);
+  EXPECT_NEAR(metric(r, "excess_force_integral"), 0.5, 1e-9);  // (2 - 1.5) N for 1 s
   EXPECT_NEAR(metric(r, "mean_force_rate"), 4.0 / 3.0, 1e-9);  // up 2 N, down 2 N in 3 s
   EXPECT_FALSE(hasData(r, "task_time"));
 }
@@ -196,13 +300,13 @@ TEST(Assess, RejectedSamplesAreCountedAndIgnored) {
 TEST(Assess, EmptyAndOneSampleInputAreFiniteAndSayNoData) {
   SessionAssessor a{AssessmentSettings{}};
   AssessmentReport r = a.report();
-  ASSERT_EQ(r.metrics.size(), 17u);
+  ASSERT_EQ(r.metrics.size(), 23u);
   for (const Metric& m : r.metrics) {
     EXPECT_TRUE(std::isfinite(m.value)) << m.key;
     EXPECT_FALSE(m.hasData) << m.key;
   }
   const YAML::Node y = YAML::Load(assessmentYaml(r, "empty"));
-  EXPECT_EQ(y["no_data"].size(), 17u);
+  EXPECT_EQ(y["no_data"].size(), 23u);
   EXPECT_NE(assessmentMarkdown(r, "empty").find("| task_time | no data |"), std::string::npos);
 
   a.addTip(1.0, Vector3d(1, 2, 3));

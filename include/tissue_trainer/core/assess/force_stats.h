@@ -17,6 +17,7 @@ struct ForceMetrics {
   double variation = 0.0;        // N, sum of |f[i+1] - f[i]| (vector) over weighted intervals
   std::size_t events = 0;        // excessive-force events: |f| rises above the threshold
   double excessiveTime = 0.0;    // s, weighted time with |f| above the threshold
+  double excessIntegral = 0.0;   // N s, integral of max(0, |f| - threshold) dt
 };
 
 class ForceStats {

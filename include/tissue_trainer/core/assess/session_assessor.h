@@ -37,11 +37,21 @@ struct SimulationRestart {
   double gap = 0.0;   // s since the last model of the process that died
 };
 
+// A time series point for the plots (times from the session's first sample).
+struct TimedValue {
+  double t = 0.0;
+  double value = 0.0;
+};
+
 struct AssessmentReport {
   AssessmentSettings settings;
   StreamCounts tip, force, status;
   std::vector<Metric> metrics;  // in report order
   std::vector<SimulationRestart> restarts;
+  std::vector<Movement> movements;    // times from the session's first sample
+  std::vector<PathSample> path;       // the smoothed tip path
+  std::vector<TimedValue> forceSeries;   // |f| (N) of every accepted force sample
+  std::vector<TimedValue> strainSeries;  // max_strain of every accepted status sample
   const Metric* find(const std::string& key) const;
 };
 
@@ -70,6 +80,7 @@ class SessionAssessor {
   double forceFirst_ = 0.0, statusFirst_ = 0.0;
   std::vector<SimulationRestart> restarts_;  // times relative to the stream, not yet the session
   double peakStrain_ = 0.0, peakStrainedVolume_ = 0.0;
+  std::vector<TimedValue> forceSeries_, strainSeries_;  // stream times, not yet the session's
 };
 
 }  // namespace tt

@@ -1,6 +1,7 @@
 #pragma once
 // Kinematic metrics of the instrument tip from time-stamped positions: raw path length,
-// and from a resampled, smoothed path the speed (movement count with hysteresis) and jerk.
+// and from a resampled, smoothed path the speed, the movements (hysteresis on the speed)
+// with their own duration, path length, peak speed and log dimensionless jerk, and jerk.
 //
 // Resampling: the samples are joined by straight lines and averaged over consecutive windows
 // of 1/resample_rate seconds (exact integral), one grid point per complete window at its
@@ -14,6 +15,18 @@
 // from 10 um noise at 1 kHz, 7 % of a minimum-jerk 10 cm / 2 s reach.
 // Derivatives are central differences on the smoothed grid, point-reflected at its ends the
 // same way, so every grid point of a segment of at least 3 points has a speed and a jerk.
+//
+// Movements: the smoothed speed rising above movement_speed_start starts one, falling below
+// movement_speed_stop ends it; a pause shorter than movement_min_pause is an arrest inside
+// the movement, not its end (Hogan and Sternad 2009, "Sensitivity of smoothness measures to
+// movement duration, amplitude, and arrests": arrests are what a smoothness measure must see).
+// Each movement is then widened outward from its threshold crossings while the speed keeps
+// falling and is above 0.1 % of the movement's peak speed (at rest), so that it spans the
+// whole rise and fall of the speed and not only its part above the thresholds: the jerk of a
+// reach is largest where it leaves and reaches rest. The smoothing widens a movement by a few
+// sigma, so short movements read less smooth: a minimum-jerk reach (exactly -ln 360 = -5.886)
+// reads -5.86 over 2 s, -6.03 over 1 s, -6.47 over 0.5 s at smoothing_time 0.03 s, whatever
+// its amplitude.
 #include <cstddef>
 #include <vector>
 
@@ -22,6 +35,30 @@
 #include "tissue_trainer/core/assess/assessment_settings.h"
 
 namespace tt {
+
+// One movement of the tip (times on the smoothed grid, from the session's first sample).
+struct Movement {
+  double start = 0.0, end = 0.0;   // s
+  double pathLength = 0.0;         // m, along the smoothed path
+  double chord = 0.0;              // m, straight distance from start to end
+  double peakSpeed = 0.0;          // m/s
+  double jerkCost = 0.0;           // m^2/s^5, 1/2 integral of |jerk|^2 dt over the movement
+  // Dimensionless jerk: jerkCost * duration^5 / pathLength^2 (360 for a minimum-jerk reach,
+  // the least any rest-to-rest movement can have); its log: -ln of it (-5.886 for that reach,
+  // lower = less smooth). Zero and no data for a movement without length.
+  double dimensionlessJerk = 0.0;
+  double logDimensionlessJerk = 0.0;
+  bool hasJerk = false;
+  double duration() const { return end - start; }
+};
+
+// One point of the smoothed tip path.
+struct PathSample {
+  double t = 0.0;                  // s, centre of the window
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  double speed = 0.0;              // m/s
+  int movement = -1;               // index into movements, or -1 between them
+};
 
 struct TipPathMetrics {
   double pathLength = 0.0;          // m, sum of |p[i+1] - p[i]| over the accepted samples
@@ -33,6 +70,9 @@ struct TipPathMetrics {
   double smoothedDuration = 0.0;    // s, time covered by the windows of segments with a jerk
   std::size_t gridPoints = 0;
   std::size_t speedPoints = 0;      // grid points with a speed estimate
+  std::vector<Movement> movementList;  // in time order
+  std::vector<PathSample> path;        // every grid point of segments with a speed
+  double idleTime = 0.0;            // s, between the first movement's start and the last one's end, in no movement
 };
 
 class TipPath {
@@ -41,7 +81,8 @@ class TipPath {
 
   // Accepts a sample later than the previous one (the caller checks order and finiteness).
   void add(double t, const Eigen::Vector3d& p);
-  TipPathMetrics metrics() const;
+  // Times in the result count from `origin` (s).
+  TipPathMetrics metrics(double origin = 0.0) const;
 
  private:
   struct Segment {
@@ -62,6 +103,14 @@ class TipPath {
   std::size_t windowIndex_ = 0;  // open window: [start + i h, start + (i + 1) h)
   Eigen::Vector3d windowSum_ = Eigen::Vector3d::Zero();  // integral of p over it so far (m s)
 };
+
+// The movements of one segment of the smoothed path, from the speed at each grid point (step
+// h seconds); indices are grid points, [first, last] inclusive (exposed for tests).
+struct MovementSpan {
+  int first = 0, last = 0;
+};
+std::vector<MovementSpan> segmentMovements(const std::vector<double>& speed, double h,
+                                          const AssessmentSettings& settings);
 
 // Gaussian smoothing with point reflection at the ends (exposed for tests).
 std::vector<Eigen::Vector3d> smoothPath(const std::vector<Eigen::Vector3d>& x, double sigmaSamples);
