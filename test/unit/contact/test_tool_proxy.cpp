@@ -35,13 +35,14 @@ TEST(ToolProxy, NeverFasterThanItsLimitPerSimulatedSecond) {
     const Eigen::Vector3d before = proxy.position();
     const Eigen::Vector3d after = proxy.follow(device, h);
     const double moved = (after - before).norm();
-    EXPECT_LE(moved, speed * h * (1.0 + 1e-12)) << "frame " << k;
+    // Up to the round-off of positions of a metre or two (the device wanders): 1e-12 m.
+    EXPECT_LE(moved, speed * h + 1e-12) << "frame " << k;
     // Toward the target: the distance falls by exactly what it moved.
     EXPECT_NEAR((device - before).norm() - proxy.lag(), moved, 1e-12);
     simulated += h;
     travelled += moved;
   }
-  EXPECT_LE(travelled, speed * simulated * (1.0 + 1e-9));
+  EXPECT_LE(travelled, speed * simulated + 5000 * 1e-12);
   EXPECT_GT(travelled, 0.5 * speed * simulated);  // it did move, mostly at its limit
 }
 
