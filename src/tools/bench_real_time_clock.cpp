@@ -16,9 +16,10 @@
 // site's surface point). The real-time runs are compared with the reference at the same device time
 // (linear interpolation between its 10 ms frames): what the trainee sees and feels at a moment
 // against what the fast machine would give then.
-//   bench_real_time_clock MESH|- [MAX_FRAME_TIME=0.1] [TOOL_MAX_SPEED=0.1] [CSV]
+//   bench_real_time_clock MESH|- [MAX_FRAME_TIME=0.1] [TOOL_MAX_SPEED=0.1] [CSV|-] [SECONDS]
 // MESH: a liver mesh in liver.msh's coordinates (e.g. a TetGen refinement, docs/real_time.md);
-// "-": liver.msh itself. CSV: every frame of the three runs.
+// "-": liver.msh itself. CSV: every frame of the three runs. SECONDS: play only the script's
+// first SECONDS (default all of it, and 1 s of its last pose).
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
@@ -93,7 +94,8 @@ int probeNode(const System& system) {
   return best;
 }
 
-Run play(Mode mode, const std::string& scenePath, const TaskScript& task, double maxFrame, double maxSpeed) {
+Run play(Mode mode, const std::string& scenePath, const TaskScript& task, double end, double maxFrame,
+         double maxSpeed) {
   Scene scene = loadScene(scenePath);
   System& system = scene.system;
   // As the simulation node: the guard may spend 3 frames of wall time on one frame.
@@ -107,7 +109,6 @@ Run play(Mode mode, const std::string& scenePath, const TaskScript& task, double
   const int probe = probeNode(system);
   RealTimeClock clock(kFrame, maxFrame);
   ToolProxy proxy(maxSpeed);
-  const double end = task.duration() + kTail;
   Run run;
   const double wall0 = now();
   for (long frame = 0;; ++frame) {
@@ -194,7 +195,7 @@ void report(const char* name, const Run& run, const Run* reference) {
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: bench_real_time_clock MESH|- [MAX_FRAME_TIME=0.1] [TOOL_MAX_SPEED=0.1] [CSV]\n");
+    std::fprintf(stderr, "usage: bench_real_time_clock MESH|- [MAX_FRAME_TIME=0.1] [TOOL_MAX_SPEED=0.1] [CSV|-] [SECONDS]\n");
     return 2;
   }
   try {
@@ -204,17 +205,18 @@ int main(int argc, char** argv) {
     setThreadCount(1);
     const std::string scenePath = writeScene(mesh);
     const TaskScript task = TaskScript::load(bench::sourceDir() + "/config/tasks/liver_palpation.yaml");
-    std::printf("bench_real_time_clock: %s (%d tets), task %s (%.1f s + %.1f s), 6 mm sphere, frames of %.0f ms, "
+    const double end = argc > 5 ? std::stod(argv[5]) : task.duration() + kTail;
+    std::printf("bench_real_time_clock: %s (%d tets), task %s (the first %.1f s), 6 mm sphere, frames of %.0f ms, "
                 "max_frame_time %.3f s, tool_max_speed %.3f m/s, 1 thread\n",
-                mesh.c_str(), loadScene(scenePath).system.mesh.numTets(), task.name().c_str(), task.duration(), kTail,
+                mesh.c_str(), loadScene(scenePath).system.mesh.numTets(), task.name().c_str(), end,
                 1e3 * kFrame, maxFrame, maxSpeed);
-    const Run reference = play(Mode::kReference, scenePath, task, maxFrame, maxSpeed);
+    const Run reference = play(Mode::kReference, scenePath, task, end, maxFrame, maxSpeed);
     report("reference", reference, nullptr);
-    const Run realTime = play(Mode::kRealTime, scenePath, task, maxFrame, maxSpeed);
+    const Run realTime = play(Mode::kRealTime, scenePath, task, end, maxFrame, maxSpeed);
     report("real_time", realTime, &reference);
-    const Run fixed = play(Mode::kFixed, scenePath, task, maxFrame, maxSpeed);
+    const Run fixed = play(Mode::kFixed, scenePath, task, end, maxFrame, maxSpeed);
     report("fixed_10ms", fixed, &reference);
-    if (argc > 4) {
+    if (argc > 4 && std::string(argv[4]) != "-") {
       std::ofstream csv(argv[4]);
       csv << "run,device_time,simulated_time,step,frame_wall,contact_force,probe_x,probe_y,probe_z\n";
       for (Mode m : {Mode::kReference, Mode::kRealTime, Mode::kFixed}) {
