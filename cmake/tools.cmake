@@ -46,8 +46,8 @@ endif()
 
 # bench_scene_parts times the instrument contact query of the simulation node (Bullet);
 # bench_implicit_step steps the liver with the tool pressed in; bench_bullet_liver_state
-# presses it for bench_bullet_liver.
-foreach(tool bench_scene_parts bench_implicit_step bench_bullet_liver_state)
+# presses it for bench_bullet_liver; bench_real_time_clock plays the palpation with it.
+foreach(tool bench_scene_parts bench_implicit_step bench_bullet_liver_state bench_real_time_clock)
   if(TARGET ${tool})
     target_link_libraries(${tool} tissue_trainer_contact)
   endif()

@@ -189,12 +189,13 @@ RenderSurface loadRenderSurface(const YamlEntry& spec, const fs::path& sceneDir,
 }
 
 // contact: {stiffness | stiffness_per_area, damping, grasp_stiffness, grasp_jaw_angle,
-// grasp_radius, grasp_max_nodes, felt_stiffness}; every key optional (defaults in
+// grasp_radius, grasp_max_nodes, felt_stiffness, tool_max_speed}; every key optional (defaults in
 // ContactSettings).
 ContactSettings readContact(const YamlEntry& spec) {
   if (spec.node().IsNull()) return {};
   spec.expectMap({"stiffness", "stiffness_per_area", "damping", "grasp_stiffness",
-                  "grasp_jaw_angle", "grasp_radius", "grasp_max_nodes", "felt_stiffness"});
+                  "grasp_jaw_angle", "grasp_radius", "grasp_max_nodes", "felt_stiffness",
+                  "tool_max_speed"});
   ContactSettings c;
   if (spec.has("stiffness") && spec.has("stiffness_per_area"))
     spec["stiffness_per_area"].fail(
@@ -214,6 +215,11 @@ ContactSettings readContact(const YamlEntry& spec) {
   }
   c.graspRadius = spec.positive("grasp_radius", c.graspRadius);
   c.graspMaxNodes = spec.integerAtLeast("grasp_max_nodes", 1, c.graspMaxNodes);
+  if (spec.has("tool_max_speed")) {
+    const YamlEntry e = spec["tool_max_speed"];
+    c.toolMaxSpeed = e.number();
+    if (c.toolMaxSpeed <= 0.0) e.fail("expected a speed > 0 (m/s), got " + e.node().Scalar());
+  }
   if (spec.has("felt_stiffness"))
     c.tissueInSeries = spec["felt_stiffness"].choice({"penalty", "tissue_in_series"}) ==
                        "tissue_in_series";
@@ -635,10 +641,22 @@ Scene loadScene(const std::string& path) {
   if (top.has("loads")) applyLoads(top["loads"], system);
   if (top.has("run")) {
     const YamlEntry run = top["run"];
-    run.expectMap({"frame_time", "duration", "stop_kinetic_energy", "stop_not_before"});
+    run.expectMap({"frame_time", "duration", "stop_kinetic_energy", "stop_not_before",
+                   "max_frame_time"});
     scene.frameTime = run.positive("frame_time", scene.frameTime);
     scene.duration = run.positive("duration", scene.duration);
     scene.kineticEnergyStop = readKineticEnergyStop(run);
+    if (run.has("max_frame_time")) {
+      const YamlEntry e = run["max_frame_time"];
+      const double longest = e.number();
+      if (longest < scene.frameTime) {
+        char text[96];
+        std::snprintf(text, sizeof text, "expected a time >= run.frame_time (%g s), got %g", scene.frameTime,
+                      longest);
+        e.fail(text);
+      }
+      scene.maxFrameTime = longest;
+    }
   }
   if (top.has("boundary"))
     applyBoundary(top["boundary"], sceneDir, scene.frameTime, system, scene.jawNodes);

@@ -6,6 +6,9 @@
 // As a device driver must, it protects the hand on its own: a force older than force_timeout
 // (the bridge died or the network failed) counts as zero, and the magnitude of what it
 // receives is clamped to force_limit (anyone on the ROS network can publish /device/servo_cf).
+//
+// The task clock starts only when the simulation is there: the hand holds the first keyframe
+// until the first /tissue/status arrives (at most wait_for_simulation s), then start_delay.
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/WrenchStamped.h>
 #include <ros/ros.h>
@@ -18,7 +21,9 @@
 #include "periodic_clock.h"
 #include "tissue_trainer/core/haptics/loop_stats.h"
 #include "tissue_trainer/core/kinematics/tip_ik.h"
+#include "tissue_trainer/TissueStatus.h"
 #include "tissue_trainer/core/operator/task_script.h"
+#include "tissue_trainer/core/operator/task_start.h"
 #include "tissue_trainer/core/operator/virtual_hand.h"
 #include "urdf_chain.h"
 
@@ -32,7 +37,7 @@ constexpr double kMaxStampLag = 0.05;  // s a message's stamp may trail the wall
 
 struct Settings {
   std::string task;
-  double rate, startDelay, forceTimeout, forceLimit, roll;
+  double rate, startDelay, waitForSimulation, forceTimeout, forceLimit, roll;
   bool shutdownAtEnd;
   HandGains gains;
 };
@@ -42,6 +47,7 @@ Settings readSettings(const ros::NodeHandle& pn) {
   s.task = requiredStringParam(pn, "task");
   s.rate = numberParam(pn, "rate", 1000.0, 1.0, 10000.0);
   s.startDelay = numberParam(pn, "start_delay", 1.0, 0.0, 3600.0);
+  s.waitForSimulation = numberParam(pn, "wait_for_simulation", 60.0, 0.0, 3600.0);
   s.forceTimeout = numberParam(pn, "force_timeout", 0.05, 0.0, 10.0);
   s.forceLimit = numberParam(pn, "force_limit", 5.0, 0.0, 1000.0);
   s.roll = numberParam(pn, "roll", 0.0, -M_PI, M_PI);
@@ -63,6 +69,7 @@ class Operator {
         chain_(chainFromParameter(nh, stringParam(pn, "description_param", "/robot_description"),
                                   stringParam(pn, "tip_link", "instrument_tip"))),
         hand_(settings_.gains, task_.sample(0.0).tip),
+        start_(settings_.waitForSimulation, settings_.startDelay),
         stats_(4096, 2.0 / settings_.rate) {
     ik_.variables = trocarPositionVariables(chain_);
     roll_ = chain_.variableIndex("roll");
@@ -84,7 +91,12 @@ class Operator {
     enablePub_ = nh.advertise<std_msgs::Bool>("device/enable", 1, true);
     forceSub_ = nh.subscribe("device/servo_cf", 10, &Operator::onForce, this,
                              ros::TransportHints().tcpNoDelay());
-    ROS_INFO("operator: task '%s' (%zu keyframes, %.2f s) at %.0f Hz after %.2f s; at the end: %s",
+    if (start_.wait() == TaskStart::Wait::kWaiting) {
+      statusSub_ = nh.subscribe("tissue/status", 1, &Operator::onStatus, this);
+      ROS_INFO("operator: holding the first keyframe until the simulation's first %s (at most %.1f s)",
+               statusSub_.getTopic().c_str(), settings_.waitForSimulation);
+    }
+    ROS_INFO("operator: task '%s' (%zu keyframes, %.2f s) at %.0f Hz, %.2f s after the wait; at the end: %s",
              task_.name().c_str(), task_.keyframes().size(), task_.duration(), settings_.rate,
              settings_.startDelay, settings_.shutdownAtEnd ? "shutdown" : "hold");
   }
@@ -103,7 +115,8 @@ class Operator {
       ros::spinOnce();
       const double now = monotonicSeconds();
       stats_.record(now);
-      const double t = tick * dt - settings_.startDelay;
+      const double t = start_.taskTime(tick * dt, simulationSeen_);
+      if (!startReported_ && start_.wait() != TaskStart::Wait::kWaiting) reportStart();
       const TaskSample target = task_.sample(t);
       const bool running = t >= 0.0 && !target.finished;
       const Eigen::Vector3d force =
@@ -142,6 +155,19 @@ class Operator {
   }
 
  private:
+  void onStatus(const tissue_trainer::TissueStatus&) { simulationSeen_ = true; }
+
+  void reportStart() {
+    startReported_ = true;
+    statusSub_.shutdown();
+    if (start_.wait() == TaskStart::Wait::kSimulation)
+      ROS_INFO("operator: the simulation's first status came %.2f s after start; the task starts in %.2f s",
+               start_.waitEnded(), settings_.startDelay);
+    else if (start_.wait() == TaskStart::Wait::kTimedOut)
+      ROS_WARN("operator: no simulation status within wait_for_simulation = %.1f s; starting the task "
+               "without it in %.2f s", settings_.waitForSimulation, settings_.startDelay);
+  }
+
   void onForce(const geometry_msgs::WrenchStamped& msg) {
     Eigen::Vector3d f(msg.wrench.force.x, msg.wrench.force.y, msg.wrench.force.z);
     if (!f.allFinite()) {
@@ -194,6 +220,8 @@ class Operator {
   TaskScript task_;
   kin::Chain chain_;
   VirtualHand hand_;
+  TaskStart start_;
+  bool simulationSeen_ = false, startReported_ = false;
   LoopStatsWindow stats_;
   kin::IkOptions ik_;
   Eigen::VectorXd q_;
@@ -205,7 +233,7 @@ class Operator {
   sensor_msgs::JointState js_;
   geometry_msgs::PoseStamped cp_;
   ros::Publisher jsPub_, cpPub_, enablePub_;
-  ros::Subscriber forceSub_;
+  ros::Subscriber forceSub_, statusSub_;
 };
 
 }  // namespace

@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <stdexcept>
 
 #include "node_params.h"
 #include "tissue_trainer/ContactModel.h"
@@ -157,13 +159,15 @@ bool SimulationNode::start() {
   activationSub_ = nh_.subscribe("tissue/activation", 10, &SimulationNode::onActivation, this);
   resetSrv_ = pnh_.advertiseService("reset", &SimulationNode::onReset, this);
   loadSrv_ = pnh_.advertiseService("load_scene", &SimulationNode::onLoadScene, this);
-  stepTimer_ = nh_.createSteadyTimer(ros::WallDuration(1.0 / params_.rate), &SimulationNode::step, this);
+  stepTimer_ = nh_.createSteadyTimer(ros::WallDuration(1.0 / params_.rate), &SimulationNode::step, this,
+                                     /*oneshot=*/true);
   diagnosticsTimer_ = nh_.createSteadyTimer(ros::WallDuration(1.0), &SimulationNode::publishDiagnostics, this);
-  ROS_INFO("simulation: scene '%s' (%d nodes, %d tets, %s), %.0f Hz, %d thread(s), %zu tool "
-           "shapes; snapshot every %.2f s to %s",
+  ROS_INFO("simulation: scene '%s' (%d nodes, %d tets, %s), %.0f Hz (frames of %.1f ms, up to "
+           "%.1f ms to keep real time), %d thread(s), %zu tool shapes; snapshot every %.2f s to %s",
            scene_.name.c_str(), scene_.system.numNodes(), scene_.system.mesh.numTets(),
-           scene_.contact ? "contact" : "no contact", params_.rate, tt::threadCount(),
-           toolShapes_.size(), params_.snapshotPeriod, params_.snapshotPath.c_str());
+           scene_.contact ? "contact" : "no contact", params_.rate, 1e3 / params_.rate,
+           1e3 * frameClock_->maxStep(), tt::threadCount(), toolShapes_.size(),
+           params_.snapshotPeriod, params_.snapshotPath.c_str());
   return true;
 }
 
@@ -184,8 +188,21 @@ void SimulationNode::buildContact() {
     contact_ = std::make_unique<tt::TissueContact>(scene_.system, *scene_.contact, toolShapes_);
 }
 
+double SimulationNode::maxFrameTime(const tt::Scene& scene) const {
+  return scene.maxFrameTime.value_or(kDefaultMaxFrames / params_.rate);
+}
+
 void SimulationNode::loadScene(const std::string& path) {
   tt::Scene loaded = tt::loadScene(path);  // throws before anything changes
+  const double nominal = 1.0 / params_.rate, longest = maxFrameTime(loaded);
+  if (longest < nominal) {
+    char text[160];
+    std::snprintf(text, sizeof text, "run.max_frame_time: expected a time >= the node's step 1/~rate (%g s), got %g",
+                  nominal, longest);
+    throw std::invalid_argument(path + ": " + text);
+  }
+  frameClock_ = std::make_unique<tt::RealTimeClock>(nominal, longest);
+  proxy_ = tt::ToolProxy(loaded.contact ? loaded.contact->toolMaxSpeed : tt::ContactSettings().toolMaxSpeed);
   contact_.reset();
   scene_ = std::move(loaded);
   for (const std::string& note : scene_.notes) ROS_INFO("scene: %s", note.c_str());
@@ -257,10 +274,25 @@ void SimulationNode::onActivation(const sensor_msgs::JointState& msg) {
   }
 }
 
+void SimulationNode::scheduleNextStep() {
+  const double wait = frameClock_->nextStart() - ros::SteadyTime::now().toSec();
+  stepTimer_.stop();
+  stepTimer_.setPeriod(ros::WallDuration(std::max(wait, 1e-6)));  // behind: at once
+  stepTimer_.start();
+}
+
+void SimulationNode::followWithProxy(Eigen::Isometry3d& tip, std::vector<Eigen::Isometry3d>& links,
+                                     double step) {
+  const Eigen::Vector3d shift = proxy_.follow(tip.translation(), step) - tip.translation();
+  tip.translation() += shift;
+  for (Eigen::Isometry3d& link : links) link.translation() += shift;
+}
+
 void SimulationNode::step(const ros::SteadyTimerEvent&) {
   const ros::WallTime wallStart = ros::WallTime::now();
   const ros::Time stamp = ros::Time::now();
   tt::System& system = scene_.system;
+  const tt::ClockStep planned = frameClock_->next(ros::SteadyTime::now().toSec());
 
   tt::ContactResult contact;
   if (contact_) {
@@ -268,6 +300,7 @@ void SimulationNode::step(const ros::SteadyTimerEvent&) {
     std::vector<Eigen::Isometry3d> links;
     if (readTool(tip, links)) {
       try {
+        followWithProxy(tip, links, planned.step);
         contact_->setTool(tip, links, jawAngle_, system.state.t);
       } catch (const std::invalid_argument& e) {
         toolProblem_ = e.what();
@@ -282,7 +315,11 @@ void SimulationNode::step(const ros::SteadyTimerEvent&) {
   lastContact_ = contact;
   publishContact(contact, stamp);
 
-  const tt::StepReport report = scene_.integrator->advance(system, 1.0 / params_.rate);
+  const double startTime = system.state.t;
+  const tt::StepReport report = scene_.integrator->advance(system, planned.step);
+  // The step taken: less than planned when the guard cut the frame short, 0 when it failed.
+  const double stepTaken = system.state.t - startTime;
+  frameClock_->advanced(stepTaken);
   ++step_;
   guard_.add(report);
   if (!report.ok) {
@@ -316,7 +353,8 @@ void SimulationNode::step(const ros::SteadyTimerEvent&) {
   }
   writeSnapshot();
   const double stepWall = (ros::WallTime::now() - wallStart).toSec();
-  publishStatus(report, stepWall, stamp);
+  publishStatus(report, stepWall, planned, stepTaken, stamp);
+  scheduleNextStep();
 }
 
 void SimulationNode::publishContact(const tt::ContactResult& r, const ros::Time& stamp) {
@@ -384,6 +422,7 @@ void SimulationNode::publishMarker(const ros::Time& stamp) {
 }
 
 void SimulationNode::publishStatus(const tt::StepReport& report, double stepWall,
+                                   const tt::ClockStep& planned, double stepTaken,
                                    const ros::Time& stamp) {
   const tt::System& system = scene_.system;
   const double wall = ros::WallTime::now().toSec();
@@ -393,11 +432,16 @@ void SimulationNode::publishStatus(const tt::StepReport& report, double stepWall
   realTimeFactor_ = wallSpan > 0.0 ? (clock_.back().second - clock_.front().second) / wallSpan : 0.0;
   lastStepWall_ = stepWall;
   maxStepWall_ = std::max(maxStepWall_, stepWall);
-  const bool behind = stepWall > 1.0 / params_.rate;
+  lastStepTaken_ = stepTaken;
+  maxStepTaken_ = std::max(maxStepTaken_, stepTaken);
+  const bool behind = planned.dropped > 0.0;
   if (behind) {
     ++behindCount_;
-    ROS_WARN_THROTTLE(5.0, "simulation step took %.1f ms, more than its %.1f ms period",
-                      1e3 * stepWall, 1e3 / params_.rate);
+    ROS_WARN_THROTTLE(5.0, "simulation behind real time: a frame needed %.1f ms of simulated time, "
+                      "more than run.max_frame_time (%.1f ms); %.1f ms of wall time dropped, %.2f s "
+                      "since the scene was loaded",
+                      1e3 * (planned.step + planned.dropped), 1e3 * frameClock_->maxStep(),
+                      1e3 * planned.dropped, frameClock_->totalDropped());
   }
 
   const tt::FrameLog log = tt::measureFrame(system, static_cast<int>(step_), report);
@@ -410,6 +454,11 @@ void SimulationNode::publishStatus(const tt::StepReport& report, double stepWall
   msg.step_wall_time = stepWall;
   msg.real_time_factor = realTimeFactor_;
   msg.behind_schedule = behind;
+  msg.step_time = stepTaken;
+  msg.max_step_time = frameClock_->maxStep();
+  msg.time_behind = planned.dropped;
+  msg.total_time_behind = frameClock_->totalDropped();
+  msg.tool_lag = proxy_.lag();
   msg.substeps = report.substeps;
   msg.rejected_steps = report.rejected;
   msg.newton_iterations = report.newtonIterations;
@@ -469,7 +518,12 @@ void SimulationNode::publishDiagnostics(const ros::SteadyTimerEvent&) {
   add("real_time_factor", std::to_string(realTimeFactor_));
   add("last_step_ms", std::to_string(1e3 * lastStepWall_));
   add("max_step_ms", std::to_string(1e3 * maxStepWall_));
+  add("last_simulated_step_ms", std::to_string(1e3 * lastStepTaken_));
+  add("max_simulated_step_ms", std::to_string(1e3 * maxStepTaken_));
+  add("max_frame_time_ms", std::to_string(1e3 * frameClock_->maxStep()));
   add("steps_behind_schedule", std::to_string(behindCount_));
+  add("time_behind_s", std::to_string(frameClock_->totalDropped()));
+  add("tool_proxy_lag_m", std::to_string(proxy_.lag()));
   add("integrator_failures", std::to_string(failures_));
   add("last_failure", failure_);
   add("guard_recoveries", std::to_string(guard_.recoveries));
@@ -492,6 +546,7 @@ void SimulationNode::publishDiagnostics(const ros::SteadyTimerEvent&) {
   array.status.push_back(s);
   diagnosticsPub_.publish(array);
   maxStepWall_ = 0.0;
+  maxStepTaken_ = 0.0;
 }
 
 bool SimulationNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
@@ -500,6 +555,8 @@ bool SimulationNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Res
   stable_ = true;
   failingSteps_ = 0;
   clock_.clear();
+  frameClock_->restart();
+  proxy_.reset();
   res.success = true;
   res.message = "scene '" + scene_.name + "' reset to its initial state";
   ROS_INFO("%s", res.message.c_str());

@@ -1,5 +1,6 @@
 #pragma once
-// The simulation node: loads a scene, steps its integrator in real time on a steady timer,
+// The simulation node: loads a scene, steps its integrator in real time (tt::RealTimeClock:
+// a frame that overran makes the next one start at once and cover the wall time that passed),
 // couples the instrument (collision shapes from /robot_description, poses from tf2, jaw from
 // /instrument/jaw/measured_js) to the tissue through tt::TissueContact, and publishes the
 // contact model, the surface, a marker, the status and diagnostics. No physics here: the
@@ -19,15 +20,17 @@
 
 #include "tissue_trainer/LoadScene.h"
 #include "tissue_trainer/core/contact/tissue_contact.h"
+#include "tissue_trainer/core/contact/tool_proxy.h"
 #include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/scene/display_surface.h"
+#include "tissue_trainer/core/scene/real_time_clock.h"
 #include "tissue_trainer/core/scene/scene.h"
 
 namespace tt_nodes {
 
 struct SimulationParams {
   std::string scene;
-  double rate = 100.0;          // Hz
+  double rate = 100.0;          // Hz: the nominal step is 1/rate s
   int surfaceEvery = 1;         // publish /tissue/surface every n-th step
   double markerRate = 2.0;      // Hz, /tissue/surface_marker
   double damageStrain = 0.3;    // Green-strain norm counted as damage
@@ -63,11 +66,18 @@ class SimulationNode {
   void writeSnapshot();
   void readRobotDescription();
   void step(const ros::SteadyTimerEvent&);
+  // The step timer fires once; each frame sets it for the next (at once when behind).
+  void scheduleNextStep();
+  // The longest frame of a scene: run.max_frame_time, else kDefaultMaxFrames nominal steps.
+  double maxFrameTime(const tt::Scene& scene) const;
   bool readTool(Eigen::Isometry3d& tip, std::vector<Eigen::Isometry3d>& links);
+  // Moves the tool's poses onto the contact's proxy, which follows the tip at a bounded speed.
+  void followWithProxy(Eigen::Isometry3d& tip, std::vector<Eigen::Isometry3d>& links, double step);
   void publishContact(const tt::ContactResult& r, const ros::Time& stamp);
   void publishSurface(const ros::Time& stamp);
   void publishMarker(const ros::Time& stamp);
-  void publishStatus(const tt::StepReport& report, double stepWall, const ros::Time& stamp);
+  void publishStatus(const tt::StepReport& report, double stepWall, const tt::ClockStep& planned,
+                     double stepTaken, const ros::Time& stamp);
   void publishDiagnostics(const ros::SteadyTimerEvent&);
   void onJaw(const sensor_msgs::JointState& msg);
   void onActivation(const sensor_msgs::JointState& msg);
@@ -81,6 +91,7 @@ class SimulationNode {
   tt::DisplaySurface display_;
   Eigen::Matrix3Xd displayPositions_;  // of the current state, filled when a message is due
   std::unique_ptr<tt::TissueContact> contact_;
+  tt::ToolProxy proxy_{tt::ContactSettings().toolMaxSpeed};
   std::vector<tt::ToolShape> toolShapes_;
   bool haveRobot_ = false;
 
@@ -97,6 +108,10 @@ class SimulationNode {
   std::uint64_t step_ = 0, contactSeq_ = 0, surfaceSeq_ = 0;
   static constexpr double kTrianglesResendPeriod = 1.0;  // s
   static constexpr double kToolTimeout = 0.2;  // s: an older instrument pose means no tool
+  // Default longest frame, in nominal steps: 0.1 s at 100 Hz, the haptic bridge's default
+  // model_timeout, beyond which the bridge fades the force anyway (docs/scene_format.md).
+  static constexpr double kDefaultMaxFrames = 10.0;
+  std::unique_ptr<tt::RealTimeClock> frameClock_;
   bool trianglesChanged_ = true;
   ros::Time lastTrianglesStamp_;
   ros::WallTime lastMarker_;
@@ -115,6 +130,7 @@ class SimulationNode {
   // Statistics for the status and the diagnostics.
   std::deque<std::pair<double, double>> clock_;  // (wall s, simulation s) over the last second
   double realTimeFactor_ = 0.0, lastStepWall_ = 0.0, maxStepWall_ = 0.0;
+  double lastStepTaken_ = 0.0, maxStepTaken_ = 0.0;  // simulated s (maxima since the last diagnostics)
   std::uint64_t behindCount_ = 0, failures_ = 0;
   std::uint64_t failingSteps_ = 0;  // in a row, up to the current step
   tt::GuardStats guard_;  // summed over the steps since the node started

@@ -8,7 +8,9 @@
 //     and the period between wrenches as received.
 //   bench_training_graph graph   [--duration S] [--csv FILE] [--label TEXT]
 //     Watches a running training graph: simulation step wall time, status rate, real-time
-//     factor, steps behind schedule, contact models and wrenches received, bridge periods.
+//     factor, the simulated step taken and the wall time dropped (steps behind schedule), the
+//     tool proxy's lag, the first status after the probe started, contact models and wrenches
+//     received, bridge periods.
 //   bench_training_graph surface_source --vertices N [--rate HZ] [--triangles-every K]
 //   bench_training_graph surface_sink   [--duration S] [--csv FILE] [--label TEXT]
 //     Topic transport of /bench/surface (tissue_trainer/TissueSurface of N vertices) between
@@ -338,7 +340,8 @@ class GraphProbe {
   }
 
   int run(const Options& o) {
-    const double deadline = monotonicSeconds() + 60.0;
+    started_ = monotonicSeconds();
+    const double deadline = started_ + 60.0;
     while (ros::ok() && monotonicSeconds() < deadline) {  // until the simulation steps
       {
         std::lock_guard<std::mutex> l(m_);
@@ -367,7 +370,12 @@ class GraphProbe {
     r.add("step_wall_p99_ms", 1e3 * percentile(stepWall_, 0.99), "%.3f");
     r.add("step_wall_max_ms", 1e3 * maxOf(stepWall_), "%.3f");
     r.add("real_time_factor_p50", percentile(rtf_, 0.5), "%.3f");
+    r.add("step_time_p50_ms", 1e3 * percentile(stepTime_, 0.5), "%.3f");
+    r.add("step_time_max_ms", 1e3 * maxOf(stepTime_), "%.3f");
     r.add("steps_behind", double(behind_), "%.0f");
+    r.add("time_behind_s", lastBehind_ - firstBehind_, "%.3f");
+    r.add("tool_lag_max_mm", 1e3 * maxToolLag_, "%.2f");
+    r.add("first_status_s", firstStatus_ - started_, "%.2f");
     r.add("unstable_steps", double(unstable_), "%.0f");
     r.add("peak_contact_force_n", peakForce_, "%.3f");
     contacts_.addTo(r, "contact");
@@ -380,8 +388,12 @@ class GraphProbe {
  private:
   void onTissue(const tissue_trainer::TissueStatus::ConstPtr& s) {
     std::lock_guard<std::mutex> l(m_);
-    ++tissueCount_;
+    if (++tissueCount_ == 1) firstStatus_ = monotonicSeconds();
     if (!measuring_) return;
+    if (stepWall_.empty()) firstBehind_ = s->total_time_behind - s->time_behind;
+    lastBehind_ = s->total_time_behind;
+    stepTime_.push_back(s->step_time);
+    maxToolLag_ = std::max(maxToolLag_, s->tool_lag);
     stepWall_.push_back(s->step_wall_time);
     rtf_.push_back(s->real_time_factor);
     if (s->behind_schedule) ++behind_;
@@ -404,7 +416,8 @@ class GraphProbe {
   bool measuring_ = false;
   std::size_t tissueCount_ = 0, behind_ = 0, unstable_ = 0;
   double peakForce_ = 0.0;
-  std::vector<double> stepWall_, rtf_;
+  double started_ = 0.0, firstStatus_ = 0.0, firstBehind_ = 0.0, lastBehind_ = 0.0, maxToolLag_ = 0.0;
+  std::vector<double> stepWall_, stepTime_, rtf_;
   ArrivalLog contacts_, wrenches_;
   ros::Subscriber tissueSub_, contactSub_, wrenchSub_, statusSub_;  // last: destroyed first
 };

@@ -35,6 +35,14 @@ TEST(MalformedRunControl, EachBadStopConditionFailsWithOneLine) {
            "run.stop_not_before: expected a time >= 0"},
           {"start time a list", withRun("{stop_kinetic_energy: 1e-6, stop_not_before: [1]}"), 5,
            "run.stop_not_before"},
+          {"longest frame below the frame", withRun("{frame_time: 0.01, max_frame_time: 0.005}"), 5,
+           "run.max_frame_time: expected a time >= run.frame_time (0.01 s), got 0.005"},
+          {"longest frame negative", withRun("{max_frame_time: -1}"), 5,
+           "run.max_frame_time: expected a time >= run.frame_time (0.01 s), got -1"},
+          {"longest frame not a number", withRun("{max_frame_time: long}"), 5,
+           "run.max_frame_time: expected a finite number"},
+          {"longest frame infinite", withRun("{max_frame_time: .inf}"), 5,
+           "run.max_frame_time: expected a finite number"},
       },
       "bad_run.yaml");
 }

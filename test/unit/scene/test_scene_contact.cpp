@@ -91,6 +91,16 @@ TEST(SceneContact, ContactIsBuiltOnlyWhenListed) {
   const Scene perArea = sceneFrom(block("") + "contact: {stiffness_per_area: 2.5e6}\n");
   ASSERT_TRUE(perArea.contact.has_value());
   EXPECT_EQ(perArea.contact->stiffnessPerArea, 2.5e6);
+  EXPECT_EQ(perArea.contact->toolMaxSpeed, ContactSettings{}.toolMaxSpeed);
+  EXPECT_EQ(sceneFrom(block("") + "contact: {tool_max_speed: 0.25}\n").contact->toolMaxSpeed, 0.25);
+}
+
+TEST(SceneContact, TheLongestFrameIsReadOnlyWhenListed) {
+  EXPECT_FALSE(sceneFrom(block("")).maxFrameTime.has_value());
+  const Scene listed = sceneFrom(block("") + "run: {frame_time: 0.02, max_frame_time: 0.08}\n");
+  ASSERT_TRUE(listed.maxFrameTime.has_value());
+  EXPECT_EQ(*listed.maxFrameTime, 0.08);
+  EXPECT_EQ(*sceneFrom(block("") + "run: {frame_time: 0.02, max_frame_time: 0.02}\n").maxFrameTime, 0.02);
 }
 
 TEST(SceneContact, RenderSurfaceIsEmbeddedAndShown) {

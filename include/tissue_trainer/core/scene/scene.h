@@ -41,6 +41,11 @@ struct ContactSettings {
   // fixed), or each penalty in series with the tissue's stiffness at its contact point, so the
   // felt stiffness follows the tissue's (a stiffening, beating wall feels stiffer at systole).
   bool tissueInSeries = false;
+  // The tool the contact sees is a proxy that follows the device's tip at most this fast in
+  // simulated time (m/s), so a frame that comes late never finds the tool far inside the
+  // tissue; see tool_proxy.h. 0.1 m/s: above the fastest motion of the shipped task scripts
+  // (0.087 m/s) and 1 cm in the longest frame of the simulation node's default (0.1 s).
+  double toolMaxSpeed = 0.1;
 };
 
 // A finer triangle surface (scene key `render_surface`) embedded into the tet mesh: its
@@ -59,6 +64,9 @@ struct Scene {
   std::unique_ptr<Integrator> integrator;
   double frameTime = 0.01;  // s, one integrator advance() per frame
   double duration = 1.0;    // s, t_max
+  // Longest frame the simulation node takes to keep up with wall time (run.max_frame_time,
+  // >= frameTime); unset: the node's default (real_time_clock.h, docs/scene_format.md).
+  std::optional<double> maxFrameTime;
   std::optional<KineticEnergyStop> kineticEnergyStop;  // only when `run` lists it
   SceneOutput output;
   std::optional<ContactSettings> contact;         // only when the scene lists `contact`
