@@ -83,6 +83,8 @@ tt_build() {
   local launcher="" cache_note=""
   if command -v ccache >/dev/null; then
     export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$TT_REPO}"
+    # Compilations with a precompiled header are cached only with this sloppiness.
+    export CCACHE_SLOPPINESS="${CCACHE_SLOPPINESS:-pch_defines,time_macros}"
     launcher=ccache cache_note=", ccache"
   fi
   tt_say "building ${targets[*]} in $TT_WORKSPACE (Release, $TT_JOBS jobs$cache_note)"
