@@ -55,10 +55,21 @@ endif()
 # unrolling and SLP vectorisation of the 3x3 products) runs the StVK force loop about 1.7x
 # faster than -O2 with gcc 12 (12 -> 21 M tets/s on the 10k-tet grid). Only for optimised
 # builds, and portable: no -march, so the binary runs on any x86-64 CPU.
-if(CMAKE_BUILD_TYPE MATCHES "^(Release|RelWithDebInfo|MinSizeRel)$" OR NOT CMAKE_BUILD_TYPE)
+# TT_CORE_O3=OFF leaves the build type's level (the sanitizer build compiles at -O1).
+option(TT_CORE_O3 "Compile the core at -O3 in optimised builds" ON)
+if(TT_CORE_O3 AND
+   (CMAKE_BUILD_TYPE MATCHES "^(Release|RelWithDebInfo|MinSizeRel)$" OR NOT CMAKE_BUILD_TYPE))
   target_compile_options(tissue_trainer_core PRIVATE -O3)
 endif()
 set_target_properties(tissue_trainer_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
+# Every core file parses Eigen and much of the standard library, about 140,000 lines before
+# its own code: a precompiled header parses them once for the whole library.
+option(TT_CORE_PCH "Precompile the headers every core file includes" ON)
+if(TT_CORE_PCH)
+  target_precompile_headers(tissue_trainer_core PRIVATE
+    <Eigen/Core> <Eigen/Geometry> <Eigen/SparseCore> <algorithm> <cmath> <functional> <memory>
+    <stdexcept> <string> <vector>)
+endif()
 
 # Instrument-tissue contact: Bullet collision detection (CMake's FindBullet gives absolute
 # paths; Debian's BulletConfig.cmake does not).
