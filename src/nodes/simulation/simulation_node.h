@@ -21,6 +21,7 @@
 #include "tissue_trainer/core/contact/tissue_contact.h"
 #include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/scene/display_surface.h"
+#include "tissue_trainer/core/scene/frame_meter.h"
 #include "tissue_trainer/core/scene/scene.h"
 
 namespace tt_nodes {
@@ -79,6 +80,7 @@ class SimulationNode {
   tt::Scene scene_;
   tt::State initialState_;
   tt::DisplaySurface display_;
+  tt::FrameMeter meter_;  // the status's measurements, with the scene's rest data
   Eigen::Matrix3Xd displayPositions_;  // of the current state, filled when a message is due
   std::unique_ptr<tt::TissueContact> contact_;
   std::vector<tt::ToolShape> toolShapes_;
