@@ -80,6 +80,7 @@ inline void writeLiverSceneWithMesh(const std::string& mesh, const std::string& 
 // matrix is indefinite).
 inline BackwardEulerParams tightBackwardEuler() {
   BackwardEulerParams p;
+  p.preconditioner = BackwardEulerParams::Preconditioning::kJacobi;
   p.linearTolerance = 1e-10;
   p.linearMaxIterations = 20000;
   return p;
