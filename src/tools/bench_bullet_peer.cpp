@@ -178,7 +178,7 @@ RunResult runBullet(const Problem& p, const std::string& pair, const BulletSetti
 RunResult runOurs(const Problem& p, const std::string& model, double h, int substeps,
                   double timeLimit) {
   auto s = p.build(model);
-  BackwardEulerParams params;
+  BackwardEulerParams params = bench::jacobiBackwardEuler();
   params.substeps = substeps;
   params.newtonIterations = 1;
   params.linearMaxIterations = 2000;

@@ -99,7 +99,7 @@ void measure(int nx, int ny, int nz, int repeats) {
     s->assembleStiffness(x, K);
     s->assembleVelocityJacobian(x, v, C);
   }, repeats);
-  BackwardEulerParams p;
+  BackwardEulerParams p = bench::jacobiBackwardEuler();
   std::printf("%-22s %8d %14.3f %14.3f %12s\n", "analytic", 0, 1e3 * analytic,
               1e3 * stepSeconds(*s, p, repeats), "-");
   for (bool coloring : {true, false}) {

@@ -53,28 +53,7 @@ double seconds(Clock::time_point t0) {
 
 const std::string kWork = "/tmp/tt_bench_implicit_step";
 
-// liver.msh refined by TetGen to about `target` tets (the volume bound adjusted by the count
-// it gives); "" when tetgen is missing or fails.
-std::string refinedLiver(int target, int& tets) {
-  if (std::system("command -v tetgen > /dev/null 2>&1") != 0) return "";
-  const std::string dir = kWork + "/liver_" + std::to_string(target);
-  if (std::system(("mkdir -p " + dir).c_str()) != 0) return "";
-  writeMesh(dir + "/liver.node", readMesh(sourceDir() + "/config/meshes/liver.msh"));
-  // The quality bound adds tets of its own: on liver.msh the count goes about as a^-0.6 with
-  // the volume bound a (file units; 51,349 tets at a = 0.003), so a scales by ratio^1.7.
-  double volume = 0.003 * std::pow(51349.0 / target, 1.7);
-  for (int attempt = 0; attempt < 5; ++attempt) {
-    char cmd[256];
-    std::snprintf(cmd, sizeof cmd, "cd %s && tetgen -rq1.4a%.6gQ liver > tetgen.log 2>&1",
-                  dir.c_str(), volume);
-    if (std::system(cmd) != 0) return "";
-    tets = readMesh(dir + "/liver.1.ele").numTets();
-    const double ratio = static_cast<double>(tets) / target;
-    if (ratio > 0.85 && ratio < 1.15) break;
-    volume *= std::pow(ratio, 1.7);
-  }
-  return dir + "/liver.1.ele";
-}
+std::string refinedLiver(int target, int& tets) { return bench::refinedLiver(kWork, target, tets); }
 
 // The palpation scene with another mesh of the same liver.
 std::string sceneWithMesh(const std::string& mesh) {

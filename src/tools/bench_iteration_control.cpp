@@ -146,7 +146,7 @@ Scene loadVariant(const std::string& scenePath, const Variant& v, const std::str
 }
 
 BackwardEulerParams controlParams(const Variant& v) {
-  BackwardEulerParams p;
+  BackwardEulerParams p = bench::jacobiBackwardEuler();
   p.adaptive = true;
   p.linearSolver = BackwardEulerParams::LinearSolver::kGmres;
   p.newtonIterations = 1;

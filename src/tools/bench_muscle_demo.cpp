@@ -133,7 +133,7 @@ int main(int argc, char** argv) {
        [=] { return std::make_unique<NewtonianIntegrator>(NewtonianParams{newtonianStep}); }},
       {"backward_euler h=" + std::to_string(kFrame / beSubsteps * 1e3).substr(0, 4) + "ms",
        [=] {
-         BackwardEulerParams p;
+         BackwardEulerParams p = bench::jacobiBackwardEuler();
          p.substeps = beSubsteps;
          return std::make_unique<BackwardEulerIntegrator>(p);
        }},

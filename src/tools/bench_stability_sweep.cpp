@@ -155,7 +155,7 @@ std::unique_ptr<Integrator> makeAdaptiveStepper(const std::string& name, double 
     p.minStep = h / 64.0;
     return std::make_unique<Abm3Integrator>(p);
   }
-  BackwardEulerParams p;  // lower_iterations 10, upper_iterations 40: the defaults
+  BackwardEulerParams p = bench::jacobiBackwardEuler();  // lower_iterations 10, upper_iterations 40: the defaults
   p.adaptive = true;
   p.linearSolver = BackwardEulerParams::LinearSolver::kGmres;
   p.initialStep = h;
@@ -193,7 +193,7 @@ std::unique_ptr<Integrator> makeStepper(const std::string& name, double h) {
     p.substep = h;
     return std::make_unique<NewtonianIntegrator>(p);
   }
-  if (name == "backward_euler") return std::make_unique<BackwardEulerIntegrator>();
+  if (name == "backward_euler") return std::make_unique<BackwardEulerIntegrator>(bench::jacobiBackwardEuler());
   if (name == "abm3_fixed") {  // fixed steps of h, the third-order Runge-Kutta start
     Abm3Params p;
     p.adaptive = false;

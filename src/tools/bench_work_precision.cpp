@@ -107,7 +107,7 @@ std::vector<IntegratorSpec> backwardEulerSweep(const Problem& p, bool quick) {
   for (int newton : {1, 8})
     for (double step : steps) {
       const double frame = std::max(step, p.sampleInterval);
-      BackwardEulerParams params;
+      BackwardEulerParams params = bench::jacobiBackwardEuler();
       params.substeps = static_cast<int>(std::lround(frame / step));
       params.newtonIterations = newton;
       params.linearMaxIterations = 2000;
@@ -161,7 +161,7 @@ std::vector<IntegratorSpec> iterationControlSweep(const Problem& p, bool quick) 
   const double shortest = *std::min_element(p.implicitSteps.begin(), p.implicitSteps.end());
   std::vector<IntegratorSpec> specs;
   for (int upper : uppers) {
-    BackwardEulerParams params;
+    BackwardEulerParams params = bench::jacobiBackwardEuler();
     params.adaptive = true;
     params.linearSolver = BackwardEulerParams::LinearSolver::kGmres;
     params.linearMaxIterations = 2000;

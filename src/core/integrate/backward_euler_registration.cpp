@@ -83,14 +83,15 @@ void registerBackwardEuler(Registry& registry) {
   e.name = "backward_euler";
   e.description = "linearised implicit Euler (one Newton step), optionally full Newton";
   e.keys = {{"substeps", "equal substeps per frame (integer >= 1, default 1)"},
-            {"linear_tolerance", "relative residual of the linear solve (default 1e-8)"},
+            {"linear_tolerance", "relative residual of the linear solve (default 1e-3)"},
             {"linear_max_iterations", "iteration limit of the linear solve (default 500)"},
             {"newton_iterations", "1: the linearised step (default); > 1: full Newton"},
             {"newton_tolerance", "relative residual of the implicit equations (default 1e-6)"},
             {"require_convergence", "true: an unconverged Newton loop fails the frame"},
             {"warm_start", "start the linear solve from the previous solution (default true)"},
-            {"preconditioner", "of the linear solve: jacobi (default), cholesky (a sparse "
-                               "Cholesky factor of a recent system matrix) or amg (hypre "
+            {"preconditioner", "of the linear solve: cholesky (default; a sparse Cholesky "
+                               "factor of a recent system matrix, Jacobi while there is none), "
+                               "jacobi or amg (hypre "
                                "BoomerAMG hierarchy of one, a V-cycle per iteration)"},
             {"refactor_iterations", "cholesky, amg: a solve needing more iterations starts a "
                                     "new factor or hierarchy (integer >= 1, default 15)"},

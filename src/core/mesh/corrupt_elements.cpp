@@ -71,12 +71,13 @@ std::vector<CorruptElement> CorruptElementCheck::find(const Eigen::Ref<const Eig
   return corrupt;
 }
 
-std::vector<CorruptElement> corruptElements(const Mesh& mesh, const Eigen::Matrix3Xd& x,
+std::vector<CorruptElement> corruptElements(const Mesh& mesh,
+                                            const Eigen::Ref<const Eigen::Matrix3Xd>& x,
                                             double minVolumeRatio, HexSplit split) {
   return CorruptElementCheck(mesh, split).find(x, minVolumeRatio);
 }
 
-FaceArea hexFaceArea(const Eigen::Matrix3Xd& x, const Hex& h, int face) {
+FaceArea hexFaceArea(const Eigen::Ref<const Eigen::Matrix3Xd>& x, const Hex& h, int face) {
   const int* f = Hex8::faces[face];
   const Eigen::Vector3d p[4] = {x.col(h[f[0]]), x.col(h[f[1]]), x.col(h[f[2]]), x.col(h[f[3]])};
   // The triangles of diagonal a-c: (a, b, c), (a, c, d); of diagonal b-d: (a, b, d), (b, c, d).
@@ -93,7 +94,7 @@ FaceArea hexFaceArea(const Eigen::Matrix3Xd& x, const Hex& h, int face) {
   return out;
 }
 
-double hexVolumeFromTets(const Eigen::Matrix3Xd& x, const Hex& h, bool sixTets) {
+double hexVolumeFromTets(const Eigen::Ref<const Eigen::Matrix3Xd>& x, const Hex& h, bool sixTets) {
   double volume = 0.0;
   if (sixTets)
     for (const auto& local : Hex8::sixTets) volume += signedTetVolume(x, subTet(h, local));

@@ -15,7 +15,7 @@ void Mesh::fillDefaults() {
   if (nodeTags.size() != static_cast<size_t>(numNodes())) nodeTags.assign(numNodes(), 0);
 }
 
-double tetVolume(const Eigen::Matrix3Xd& x, const Tet& t) {
+double tetVolume(const Eigen::Ref<const Eigen::Matrix3Xd>& x, const Tet& t) {
   Eigen::Matrix3d D;
   D << x.col(t[1]) - x.col(t[0]), x.col(t[2]) - x.col(t[0]), x.col(t[3]) - x.col(t[0]);
   return D.determinant() / 6.0;
@@ -61,7 +61,7 @@ std::vector<Triangle> extractSurface(const Mesh& mesh) {
   return surface;
 }
 
-Box boundingBox(const Eigen::Matrix3Xd& x) {
+Box boundingBox(const Eigen::Ref<const Eigen::Matrix3Xd>& x) {
   if (x.cols() == 0) return {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
   return {x.rowwise().minCoeff(), x.rowwise().maxCoeff()};
 }

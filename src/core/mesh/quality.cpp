@@ -16,14 +16,14 @@ namespace {
 
 constexpr int kTetEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
 
-double longestEdge(const Eigen::Matrix3Xd& x, const Tet& t) {
+double longestEdge(const Eigen::Ref<const Eigen::Matrix3Xd>& x, const Tet& t) {
   double longest = 0.0;
   for (const auto& e : kTetEdges)
     longest = std::max(longest, (x.col(t[e[1]]) - x.col(t[e[0]])).norm());
   return longest;
 }
 
-double faceAreaSum(const Eigen::Matrix3Xd& x, const Tet& t) {
+double faceAreaSum(const Eigen::Ref<const Eigen::Matrix3Xd>& x, const Tet& t) {
   static const int kFaces[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
   double sum = 0.0;
   for (const auto& f : kFaces) {
@@ -35,7 +35,7 @@ double faceAreaSum(const Eigen::Matrix3Xd& x, const Tet& t) {
 
 // Number of nodes having an earlier node within tol: a hash grid of cell size >= tol, so
 // only the 27 neighbouring cells need checking.
-int countDuplicates(const Eigen::Matrix3Xd& x, double tol) {
+int countDuplicates(const Eigen::Ref<const Eigen::Matrix3Xd>& x, double tol) {
   const int n = static_cast<int>(x.cols());
   if (n < 2) return 0;
   const Box box = boundingBox(x);
@@ -85,13 +85,13 @@ double median(std::vector<double> values) {
 
 }  // namespace
 
-double tetNormalisedVolume(const Eigen::Matrix3Xd& x, const Tet& t) {
+double tetNormalisedVolume(const Eigen::Ref<const Eigen::Matrix3Xd>& x, const Tet& t) {
   const double lmax = longestEdge(x, t);
   if (lmax == 0.0) return 0.0;
   return 6.0 * std::sqrt(2.0) * std::abs(tetVolume(x, t)) / (lmax * lmax * lmax);
 }
 
-double tetAspectRatio(const Eigen::Matrix3Xd& x, const Tet& t) {
+double tetAspectRatio(const Eigen::Ref<const Eigen::Matrix3Xd>& x, const Tet& t) {
   const double volume = std::abs(tetVolume(x, t));
   const double areas = faceAreaSum(x, t);
   if (volume == 0.0 || areas == 0.0) return std::numeric_limits<double>::infinity();
@@ -99,7 +99,7 @@ double tetAspectRatio(const Eigen::Matrix3Xd& x, const Tet& t) {
   return longestEdge(x, t) / (2.0 * std::sqrt(6.0) * inradius);
 }
 
-double hexVolume(const Eigen::Matrix3Xd& x, const Hex& h) {
+double hexVolume(const Eigen::Ref<const Eigen::Matrix3Xd>& x, const Hex& h) {
   // Reference corners (xi, eta, zeta) in VTK/Gmsh hexahedron order.
   static const double kCorner[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
                                        {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};

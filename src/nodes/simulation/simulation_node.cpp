@@ -212,6 +212,7 @@ void SimulationNode::loadScene(const std::string& path) {
     guard->setWallBudget(params_.guardBudget / params_.rate);
   fingerprint_ = tt::sceneFingerprint(scene_.name, scene_.system.mesh);
   display_ = tt::DisplaySurface(scene_);
+  meter_ = tt::FrameMeter(scene_.system);
   trianglesChanged_ = true;
   lastMarker_ = ros::WallTime();
   buildContact();
@@ -444,8 +445,10 @@ void SimulationNode::publishStatus(const tt::StepReport& report, double stepWall
                       1e3 * planned.dropped, frameClock_->totalDropped());
   }
 
-  const tt::FrameLog log = tt::measureFrame(system, static_cast<int>(step_), report);
-  const tt::StrainSummary strain = tt::measureStrain(system.mesh, system.state.x, params_.damageStrain);
+  const tt::FrameStatus measured =
+      meter_.measure(system, static_cast<int>(step_), report, params_.damageStrain);
+  const tt::FrameLog& log = measured.frame;
+  const tt::StrainSummary& strain = measured.strain;
   maxStrain_ = strain.maxStrain;
   tissue_trainer::TissueStatus msg;
   msg.header.stamp = stamp;

@@ -23,6 +23,7 @@
 #include "tissue_trainer/core/contact/tool_proxy.h"
 #include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/scene/display_surface.h"
+#include "tissue_trainer/core/scene/frame_meter.h"
 #include "tissue_trainer/core/scene/real_time_clock.h"
 #include "tissue_trainer/core/scene/scene.h"
 
@@ -89,6 +90,7 @@ class SimulationNode {
   tt::Scene scene_;
   tt::State initialState_;
   tt::DisplaySurface display_;
+  tt::FrameMeter meter_;  // the status's measurements, with the scene's rest data
   Eigen::Matrix3Xd displayPositions_;  // of the current state, filled when a message is due
   std::unique_ptr<tt::TissueContact> contact_;
   tt::ToolProxy proxy_{tt::ContactSettings().toolMaxSpeed};

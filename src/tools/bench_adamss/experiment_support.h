@@ -132,8 +132,7 @@ inline std::unique_ptr<ForceModel> neoHookeanModel(const Mesh& mesh, const Mater
 // The volume of the mesh at positions x (3n): tets exactly, hexes as the sum of their six-tet
 // split ("Adamss: Advanced Anisotropic Mass-Spring System", Sec. 2.9.1).
 inline double meshVolume(const Mesh& mesh, const Eigen::VectorXd& x) {
-  const Eigen::Map<const Eigen::Matrix3Xd> nodes(x.data(), 3, mesh.numNodes());
-  const Eigen::Matrix3Xd positions = nodes;
+  const Eigen::Map<const Eigen::Matrix3Xd> positions(x.data(), 3, mesh.numNodes());
   double volume = 0.0;
   for (const Tet& t : mesh.tets) volume += tetVolume(positions, t);
   for (const Hex& h : mesh.hexes) volume += hexVolumeFromTets(positions, h, true);
@@ -145,12 +144,9 @@ inline double meshVolume(const Mesh& mesh, const Eigen::VectorXd& x) {
 // of F(0) is the mean of the nodes on the hex's upper face i minus that of its lower face, over
 // the edge length). Hourglass modes change meshVolume but not this.
 inline double centreVolume(const Mesh& mesh, const Eigen::VectorXd& x) {
+  const Eigen::Map<const Eigen::Matrix3Xd> positions(x.data(), 3, mesh.numNodes());
   double volume = 0.0;
-  for (const Tet& t : mesh.tets) {
-    Eigen::Matrix3Xd nodes(3, 4);
-    for (int p = 0; p < 4; ++p) nodes.col(p) = x.segment<3>(3 * t[p]);
-    volume += tetVolume(nodes, Tet{0, 1, 2, 3});
-  }
+  for (const Tet& t : mesh.tets) volume += tetVolume(positions, t);
   for (const Hex& h : mesh.hexes) {
     Eigen::Vector3d lo = mesh.rest.col(h[0]), hi = lo;
     for (int p : h) lo = lo.cwiseMin(mesh.rest.col(p)), hi = hi.cwiseMax(mesh.rest.col(p));

@@ -90,6 +90,7 @@ class RecordingControl final : public HalvingDoublingControl {
 
 BackwardEulerParams countingParams() {
   BackwardEulerParams p;
+  p.preconditioner = BackwardEulerParams::Preconditioning::kJacobi;  // the counts below are Jacobi-PCG's
   p.linearTolerance = 1e-10;
   p.linearMaxIterations = 2000;
   p.warmStart = false;  // the count then depends on the step, not on the previous answer

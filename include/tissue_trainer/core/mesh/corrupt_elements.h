@@ -56,7 +56,8 @@ class CorruptElementCheck {
 };
 
 // One-off form of CorruptElementCheck::find, at positions x of the mesh's nodes.
-std::vector<CorruptElement> corruptElements(const Mesh& mesh, const Eigen::Matrix3Xd& x,
+std::vector<CorruptElement> corruptElements(const Mesh& mesh,
+                                            const Eigen::Ref<const Eigen::Matrix3Xd>& x,
                                             double minVolumeRatio = 0.01,
                                             HexSplit split = HexSplit::kBoth);
 
@@ -68,10 +69,11 @@ struct FaceArea {
   double area = 0.0;
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
 };
-FaceArea hexFaceArea(const Eigen::Matrix3Xd& x, const Hex& h, int face);
+FaceArea hexFaceArea(const Eigen::Ref<const Eigen::Matrix3Xd>& x, const Hex& h, int face);
 
 // Volume of a hex as the sum of the signed volumes of its six- or five-tet split (Sec. 2.9.1);
 // equals hexVolume when the faces are planar.
-double hexVolumeFromTets(const Eigen::Matrix3Xd& x, const Hex& h, bool sixTets = true);
+double hexVolumeFromTets(const Eigen::Ref<const Eigen::Matrix3Xd>& x, const Hex& h,
+                         bool sixTets = true);
 
 }  // namespace tt

@@ -45,8 +45,10 @@ struct Mesh {
   void fillDefaults();
 };
 
-// Signed volume det[P1-P0, P2-P0, P3-P0] / 6 of tet t at positions x (3 x n).
-double tetVolume(const Eigen::Matrix3Xd& x, const Tet& t);
+// Signed volume det[P1-P0, P2-P0, P3-P0] / 6 of tet t at positions x (3 x n). The position
+// helpers of mesh/ take Eigen::Ref, so that a Map of a state vector (3n) binds without a copy
+// (a const Matrix3Xd& would copy every node for every call).
+double tetVolume(const Eigen::Ref<const Eigen::Matrix3Xd>& x, const Tet& t);
 
 // Boundary triangles (faces that belong to exactly one tet), oriented outward.
 std::vector<Triangle> extractSurface(const Mesh& mesh);
@@ -55,6 +57,6 @@ std::vector<Triangle> extractSurface(const Mesh& mesh);
 struct Box {
   Eigen::Vector3d min, max;
 };
-Box boundingBox(const Eigen::Matrix3Xd& x);
+Box boundingBox(const Eigen::Ref<const Eigen::Matrix3Xd>& x);
 
 }  // namespace tt

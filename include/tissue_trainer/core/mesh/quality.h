@@ -32,11 +32,11 @@ struct MeshQuality {
 };
 
 // Aspect ratio of one tet (see MeshQuality::aspectMin); +inf for a zero-volume tet.
-double tetAspectRatio(const Eigen::Matrix3Xd& x, const Tet& t);
+double tetAspectRatio(const Eigen::Ref<const Eigen::Matrix3Xd>& x, const Tet& t);
 // 6 sqrt(2) |V| / Lmax^3: 1 for the regular tet, 0 for a flat one.
-double tetNormalisedVolume(const Eigen::Matrix3Xd& x, const Tet& t);
+double tetNormalisedVolume(const Eigen::Ref<const Eigen::Matrix3Xd>& x, const Tet& t);
 // Volume of a hex (VTK/Gmsh node order) by 2x2x2 Gauss quadrature of det J (exact).
-double hexVolume(const Eigen::Matrix3Xd& x, const Hex& h);
+double hexVolume(const Eigen::Ref<const Eigen::Matrix3Xd>& x, const Hex& h);
 
 MeshQuality meshQuality(const Mesh& mesh, const QualityOptions& options = {});
 

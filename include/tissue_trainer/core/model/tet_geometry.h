@@ -14,7 +14,7 @@ struct TetRest {
   Eigen::Matrix<double, 3, 4> grad;  // column p is g_p; the columns sum to zero
 };
 
-inline TetRest tetRest(const Eigen::Matrix3Xd& rest, const Tet& t) {
+inline TetRest tetRest(const Eigen::Ref<const Eigen::Matrix3Xd>& rest, const Tet& t) {
   Eigen::Matrix3d Dm;
   Dm << rest.col(t[1]) - rest.col(t[0]), rest.col(t[2]) - rest.col(t[0]),
       rest.col(t[3]) - rest.col(t[0]);

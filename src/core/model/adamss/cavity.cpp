@@ -60,7 +60,7 @@ void checkClosedSurface(const std::vector<CavityFacet>& facets, int numNodes) {
   }
 }
 
-double enclosedVolume(const std::vector<CavityFacet>& facets, const Eigen::Matrix3Xd& x) {
+double enclosedVolume(const std::vector<CavityFacet>& facets, const Eigen::Ref<const Eigen::Matrix3Xd>& x) {
   if (facets.empty()) return 0.0;
   // Relative to one of the surface's nodes: the same volume, less cancellation.
   const Eigen::Vector3d o = x.col(facets.front().front());

@@ -50,7 +50,7 @@ void checkClosedSurface(const std::vector<CavityFacet>& facets, int numNodes);
 // The signed volume the facets enclose at positions x (3 x n) by the divergence theorem,
 // positive when the facets' normals (right-hand rule) point out of it; a quad counts as the
 // mean of its two triangulations. The facets are not checked.
-double enclosedVolume(const std::vector<CavityFacet>& facets, const Eigen::Matrix3Xd& x);
+double enclosedVolume(const std::vector<CavityFacet>& facets, const Eigen::Ref<const Eigen::Matrix3Xd>& x);
 
 class CavityModel final : public ForceModel {
  public:
