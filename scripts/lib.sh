@@ -74,7 +74,8 @@ tt_ros_env() {
 
 # Builds the given targets of the catkin workspace (default: everything and the tests). The
 # pyenv python3 that may be first on PATH lacks Debian's catkin_pkg, so /usr/bin comes first.
-# ccache, when present, caches every compilation (CCACHE_DIR, default ~/.cache/ccache); paths
+# ccache, when present, caches every compilation (CCACHE_DIR, default ~/.cache/ccache, else the
+# workspace's ccache/ when HOME is not writable); paths
 # below the repository are hashed relative to it, so another clone reuses the cache too.
 tt_build() {
   local targets=("$@")
@@ -85,6 +86,11 @@ tt_build() {
   local launcher="" cache_note=""
   if command -v ccache >/dev/null; then
     export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$TT_REPO}"
+    # Its default folder is under HOME; where HOME cannot take it, the workspace's folder does.
+    if [ -z "${CCACHE_DIR:-}" ] && ! { mkdir -p "${HOME:-/nonexistent}/.cache/ccache" &&
+                                      [ -w "${HOME:-/nonexistent}/.cache/ccache" ]; } 2>/dev/null; then
+      export CCACHE_DIR="$TT_WORKSPACE/ccache"
+    fi
     # Compilations with a precompiled header are cached only with this sloppiness.
     export CCACHE_SLOPPINESS="${CCACHE_SLOPPINESS:-pch_defines,time_macros}"
     launcher=ccache cache_note=", ccache"
