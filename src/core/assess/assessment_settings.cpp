@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "tissue_trainer/core/error.h"
+#include "tissue_trainer/core/scene/yaml_file.h"
 #include "tissue_trainer/core/scene/yaml_reader.h"
 
 namespace tt {
@@ -53,14 +54,7 @@ void AssessmentSettings::validate() const {
 }
 
 AssessmentSettings loadAssessmentSettings(const std::string& yamlFile) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(yamlFile);
-  } catch (const YAML::BadFile&) {
-    throw InputError(yamlFile, 0, "cannot open the file");
-  } catch (const YAML::Exception& e) {
-    throw InputError(yamlFile, e.mark.line + 1, e.msg);
-  }
+  const YAML::Node root = loadYamlFile(yamlFile, "assessment settings file");
   const YamlEntry top(root, "", &yamlFile);
   // output_dir, summary_rate and reference_bands belong to the node; the file is shared with it.
   top.expectMap({"force_threshold", "movement_speed_start", "movement_speed_stop",

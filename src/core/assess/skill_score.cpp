@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "tissue_trainer/core/error.h"
+#include "tissue_trainer/core/scene/yaml_file.h"
 #include "tissue_trainer/core/scene/yaml_reader.h"
 
 namespace tt {
@@ -17,14 +18,7 @@ std::vector<std::string> assessmentMetricKeys() {
 }
 
 ReferenceBands loadReferenceBands(const std::string& yamlFile) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(yamlFile);
-  } catch (const YAML::BadFile&) {
-    throw InputError(yamlFile, 0, "cannot open the file");
-  } catch (const YAML::Exception& e) {
-    throw InputError(yamlFile, e.mark.line + 1, e.msg);
-  }
+  const YAML::Node root = loadYamlFile(yamlFile, "reference bands file");
   const YamlEntry top(root, "", &yamlFile);
   top.expectMap({"source", "bands"});
   ReferenceBands out;

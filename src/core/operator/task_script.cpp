@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "tissue_trainer/core/error.h"
+#include "tissue_trainer/core/scene/yaml_file.h"
 #include "tissue_trainer/core/scene/yaml_reader.h"
 
 namespace tt {
@@ -63,14 +64,7 @@ TaskScript::TaskScript(std::vector<Keyframe> keyframes, std::string name)
 }
 
 TaskScript TaskScript::load(const std::string& path) {
-  YAML::Node root;
-  try {
-    std::ifstream probe(path);
-    if (!probe) throw InputError(path, 0, "cannot open the task file");
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw InputError(path, e.mark.line >= 0 ? e.mark.line + 1 : 0, "not valid YAML: " + e.msg);
-  }
+  const YAML::Node root = loadYamlFile(path, "task file");
   const YamlEntry top(root, "", &path);
   top.expectMap({"name", "description", "scene", "frame", "keyframes"});
   const std::string name = top.has("name") ? top["name"].text()

@@ -16,6 +16,7 @@
 #include "tissue_trainer/core/mesh/quality.h"
 #include "tissue_trainer/core/model/gravity.h"
 #include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/scene/yaml_file.h"
 #include "tissue_trainer/core/scene/yaml_reader.h"
 #include "scene_fibres.h"
 
@@ -600,14 +601,7 @@ std::optional<KineticEnergyStop> readKineticEnergyStop(const YamlEntry& run) {
 }  // namespace
 
 Scene loadScene(const std::string& path) {
-  YAML::Node root;
-  try {
-    std::ifstream probe(path);
-    if (!probe) throw InputError(path, 0, "cannot open the scene file");
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw InputError(path, e.mark.line >= 0 ? e.mark.line + 1 : 0, "not valid YAML: " + e.msg);
-  }
+  const YAML::Node root = loadYamlFile(path, "scene file");
   Scene scene;
   scene.file = path;
   const YamlEntry top(root, "", &scene.file);
