@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_support.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/mesh/mesh_io.h"
 #include "tissue_trainer/core/system.h"
@@ -78,13 +79,7 @@ inline void writeLiverSceneWithMesh(const std::string& mesh, const std::string& 
 // The reference of the benchmarks' step errors, and of the settling steps: Jacobi-PCG to 1e-10
 // (a Cholesky factor would need BiCGSTAB and thousands of iterations where the pressed liver's
 // matrix is indefinite).
-inline BackwardEulerParams tightBackwardEuler() {
-  BackwardEulerParams p;
-  p.preconditioner = BackwardEulerParams::Preconditioning::kJacobi;
-  p.linearTolerance = 1e-10;
-  p.linearMaxIterations = 20000;
-  return p;
-}
+inline BackwardEulerParams tightBackwardEuler() { return jacobiBackwardEuler(1e-10, 20000); }
 
 // Lets the liver sag to rest under gravity (3 s in steps of 0.1 s, solved tightly; the mass
 // damping and backward Euler's own damping settle it), then zeroes the velocity.
