@@ -2,7 +2,8 @@
 """Plots of a training assessment (matplotlib, Debian's python3-matplotlib).
 
   assessment_plots.py report DIR    DIR/{path,movements,force,strain}.csv and assessment.yaml
-                                    (written by assess_bag or the assessment node) ->
+                                    (written by assess_bag or the assessment node; with
+                                    DIR/tissue_surface.csv, the tissue under the tip path) ->
                                     DIR/tip_path.png, speed.png, force.png, strain.png and a
                                     short page DIR/assessment.html (score, plots, metrics)
   assessment_plots.py curve DIR     DIR/learning_curve.csv -> DIR/learning_curve.png
@@ -19,6 +20,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.collections import PolyCollection  # noqa: E402
 import yaml  # noqa: E402
 
 DPI = 100
@@ -64,10 +66,20 @@ def movement_colour(index):
     return plt.get_cmap("tab10")(index % 10)
 
 
-def plot_tip_path(path, out):
+def draw_tissue(ax, surface, a, b):
+    """The tissue's rest surface projected on the view's axes a, b (0: x, 1: y, 2: z): its
+    triangles filled, so the organ's outline and where the tip went over it show."""
+    corners = [("ax", "ay", "az"), ("bx", "by", "bz"), ("cx", "cy", "cz")]
+    triangles = [[(1e3 * surface[c[a]][i], 1e3 * surface[c[b]][i]) for c in corners]
+                 for i in range(len(surface["ax"]))]
+    ax.add_collection(PolyCollection(triangles, facecolors="#e8c4b8", edgecolors="none", zorder=0))
+    ax.plot([], [], "s", color="#e8c4b8", ms=6, label="tissue at rest")  # legend entry
+
+
+def plot_tip_path(path, out, surface=None):
     """The smoothed tip path from the front (world x right, y up: as the laparoscope looks
     along -z) and from the side (world z, the depth along the shaft, against y); each
-    movement in its own colour, the pauses grey."""
+    movement in its own colour, the pauses grey; the tissue under it when its surface is given."""
     if len(path["t"]) < 2:
         return False
     mm = [[1e3 * v for v in path[axis]] for axis in ("x", "y", "z")]
@@ -76,7 +88,9 @@ def plot_tip_path(path, out):
              (2, 1, "z (mm)", "y (mm)", "side view (world z, y)")]
     moves = path["movement"]
     for ax, (a, b, xl, yl, title) in zip(axes, views):
-        ax.plot(mm[a], mm[b], color="0.75", lw=1.0, zorder=1)
+        if surface and surface["ax"]:
+            draw_tissue(ax, surface, a, b)
+        ax.plot(mm[a], mm[b], color="0.55", lw=1.0, zorder=1)
         start = 0
         for k in range(1, len(moves) + 1):
             if k == len(moves) or moves[k] != moves[start]:
@@ -101,14 +115,17 @@ def plot_speed(path, movements, out):
         return False
     fig, ax = plt.subplots(figsize=SIZE)
     ax.plot(path["t"], [1e3 * v for v in path["speed"]], color="black", lw=1.0)
-    for i, (start, end, ldlj) in enumerate(zip(movements["start"], movements["end"], movements["ldlj"])):
-        ax.axvspan(start, end, color=movement_colour(i), alpha=0.25, lw=0)
+    contact = movements.get("contact") or [None] * len(movements["start"])
+    for i, (start, end, ldlj, touched) in enumerate(zip(movements["start"], movements["end"],
+                                                         movements["ldlj"], contact)):
+        ax.axvspan(start, end, color=movement_colour(i), alpha=0.25, lw=0,
+                   hatch="///" if touched else None)
         if ldlj is not None:
             ax.text(0.5 * (start + end), 1.0, f"{ldlj:.1f}", transform=ax.get_xaxis_transform(),
                     ha="center", va="bottom", fontsize=7, color=movement_colour(i))
     ax.set_xlabel("time (s)")
     ax.set_ylabel("tip speed (mm/s)")
-    ax.set_title("movements shaded; numbers: log dimensionless jerk", fontsize=9, pad=14)
+    ax.set_title("movements shaded (hatched: in contact); numbers: log dimensionless jerk", fontsize=9, pad=14)
     ax.grid(alpha=0.3)
     save(fig, out)
     return True
@@ -181,7 +198,9 @@ def report(folder):
     path = read_csv(os.path.join(folder, "path.csv"))
     movements = read_csv(os.path.join(folder, "movements.csv"))
     written = []
-    if plot_tip_path(path, os.path.join(folder, "tip_path.png")):
+    surface_csv = os.path.join(folder, "tissue_surface.csv")
+    surface = read_csv(surface_csv) if os.path.exists(surface_csv) else None
+    if plot_tip_path(path, os.path.join(folder, "tip_path.png"), surface):
         written.append("tip_path.png")
     if plot_speed(path, movements, os.path.join(folder, "speed.png")):
         written.append("speed.png")

@@ -1,8 +1,9 @@
 // What the simulation node's real-time clock (scene/real_time_clock.h) costs in accuracy, and
 // what it saves, on the scripted liver palpation: the palpation scene (config/scenes/
 // liver_palpation.yaml, the contact per unit area as on the refined livers of
-// scripts/bench_training) on a given liver mesh, a 6 mm sphere at the tool tip moved along the
-// task script (config/tasks/liver_palpation.yaml, its keyframe tips, no hand in the loop), one
+// scripts/bench_training) on a given liver mesh, a 6 mm sphere whose front is at the closed jaw
+// tips (18 mm beyond the tool tip along the shaft) moved along the task script
+// (config/tasks/liver_palpation.yaml, its keyframe tips, no hand in the loop), one
 // thread as the node has on two cores. Three runs of the same task:
 //   reference   frames of 10 ms, the tool at the task's position at the simulated time: what a
 //               machine fast enough for 10 ms frames would show;
@@ -47,6 +48,8 @@ using Clock = std::chrono::steady_clock;
 
 constexpr double kFrame = 0.01;        // s, the node's nominal frame (100 Hz)
 constexpr double kToolRadius = 0.006;  // m, as bench_implicit_step's sphere
+constexpr double kJawLength = 0.018;   // m, the closed jaws beyond the tip (grasper.urdf)
+const Eigen::Vector3d kTrocar(-0.035, 0.075, 0.20);  // the task's trocar (liver_palpation.yaml)
 constexpr double kTail = 1.0;          // s of the script's last pose after its end
 
 double now() { return std::chrono::duration<double>(Clock::now().time_since_epoch()).count(); }
@@ -126,7 +129,8 @@ Run play(Mode mode, const std::string& scenePath, const TaskScript& task, double
       tip = proxy.follow(tip, h);
       run.maxLag = std::max(run.maxLag, proxy.lag());
     }
-    const Eigen::Isometry3d pose(Eigen::Translation3d{tip});
+    const Eigen::Vector3d shaft = (tip - kTrocar).normalized();
+    const Eigen::Isometry3d pose(Eigen::Translation3d{tip + (kJawLength - kToolRadius) * shaft});
     contact.setTool(pose, {pose}, 1.0, system.state.t);
     const double force = contact.update().f0.norm();
     const Eigen::Vector3d probePosition = system.state.x.segment<3>(3 * probe);

@@ -17,6 +17,7 @@
 
 #include <geometry_msgs/PoseStamped.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -237,6 +238,24 @@ TEST(AssessmentReplay, OfflineReportEqualsOnline) {
   EXPECT_TRUE(fs::exists(curve + "/learning_curve.png"));
   const std::string table = readFile(curve + "/learning_curve.md");
   EXPECT_NE(table.find("| 2 | ["), std::string::npos) << table;
+
+  // --scene: the scene's rest surface beside the report (a triangle a row, 9 coordinates),
+  // drawn under the tip path; a scene that does not load: one line and exit 2.
+  const std::string scene = (fs::path(config).parent_path() / "scenes" / "liver_palpation.yaml").string();
+  const std::string drawn = session + "/drawn";
+  ASSERT_EQ(run(assessBag() + " " + bagPath + " --scene " + scene + " --out " + drawn + " > " + session +
+                "/drawn.out 2>&1"), 0)
+      << readFile(session + "/drawn.out");
+  const std::string surface = readFile(drawn + "/tissue_surface.csv");
+  EXPECT_EQ(surface.rfind("ax,ay,az,bx,by,bz,cx,cy,cz\n", 0), 0u) << surface.substr(0, 80);
+  EXPECT_GT(std::count(surface.begin(), surface.end(), '\n'), 100) << "too few triangles";
+  EXPECT_EQ(surface.find("nan"), std::string::npos);
+  EXPECT_GT(fs::file_size(drawn + "/tip_path.png"), 1000u);
+  EXPECT_EQ(run(assessBag() + " " + bagPath + " --scene " + session + "/none.yaml --out " + drawn + " 2>" +
+                session + "/err"), 2);
+  const std::string sceneError = readFile(session + "/err");
+  EXPECT_EQ(sceneError.rfind("assess_bag: --scene: ", 0), 0u) << sceneError;
+  EXPECT_EQ(std::count(sceneError.begin(), sceneError.end(), '\n'), 1) << sceneError;
 
   // assess_bag: one error line and exit 2 for a missing bag and for a bag without the topics.
   EXPECT_EQ(run(assessBag() + " " + session + "/none.bag --out " + offlineDir + " 2>" + session + "/err"), 2);

@@ -52,8 +52,12 @@ std::string restartLines(const AssessmentReport& r) {
 
 const std::vector<ReportFigure>& reportFigures() {
   static const std::vector<ReportFigure> figures = {
-      {"tip_path.png", "Tip path seen from the front (as the laparoscope) and from the side; movements in colour, pauses grey"},
-      {"speed.png", "Smoothed tip speed; each movement shaded, with its log dimensionless jerk"},
+      {"tip_path.png",
+       "Tip path seen from the front (as the laparoscope) and from the side; movements in colour, pauses grey; "
+       "the tissue at rest shaded when assess_bag was given the scene"},
+      {"speed.png",
+       "Smoothed tip speed; each movement shaded (hatched where the tool touched the tissue), with its log "
+       "dimensionless jerk"},
       {"force.png", "Tool-tissue force with the excessive-force threshold"},
       {"strain.png", "Largest tissue strain over time"},
   };
@@ -105,6 +109,7 @@ std::string assessmentYaml(const AssessmentReport& r, const std::string& source,
     if (m.hasJerk)
       e << YAML::Key << "dimensionless_jerk" << YAML::Value << m.dimensionlessJerk << YAML::Key
         << "ldlj" << YAML::Value << m.logDimensionlessJerk;
+    e << YAML::Key << "contact" << YAML::Value << m.inContact;
     e << YAML::EndMap;
   }
   e << YAML::EndSeq;
@@ -162,12 +167,13 @@ std::string assessmentMarkdown(const AssessmentReport& r, const std::string& sou
       << " | " << cell(m.definition) << " |\n";
   if (!r.movements.empty()) {
     s << "\n## Movements\n\n| # | start (s) | duration (s) | path (mm) | peak speed (mm/s) | "
-         "log dimensionless jerk |\n|---|---|---|---|---|---|\n";
+         "log dimensionless jerk | contact |\n|---|---|---|---|---|---|---|\n";
     for (std::size_t i = 0; i < r.movements.size(); ++i) {
       const Movement& m = r.movements[i];
       s << "| " << i + 1 << " | " << fixed(m.start, 2) << " | " << fixed(m.duration(), 2) << " | "
         << fixed(1e3 * m.pathLength, 1) << " | " << fixed(1e3 * m.peakSpeed, 1) << " | "
-        << (m.hasJerk ? fixed(m.logDimensionlessJerk, 2) : "no data") << " |\n";
+        << (m.hasJerk ? fixed(m.logDimensionlessJerk, 2) : "no data") << " | "
+        << (m.inContact ? "yes" : "no") << " |\n";
     }
   }
   s << "\nSettings: force_threshold " << number(r.settings.forceThreshold)
@@ -226,11 +232,12 @@ std::string pathCsv(const AssessmentReport& r) {
 }
 
 std::string movementsCsv(const AssessmentReport& r) {
-  std::string out = "start,end,path_length,chord,peak_speed,ldlj\n";
+  std::string out = "start,end,path_length,chord,peak_speed,ldlj,contact\n";
   char line[160];
   for (const Movement& m : r.movements) {
-    std::snprintf(line, sizeof line, "%.6f,%.6f,%.9g,%.9g,%.9g,%s\n", m.start, m.end, m.pathLength,
-                  m.chord, m.peakSpeed, m.hasJerk ? number(m.logDimensionlessJerk).c_str() : "");
+    std::snprintf(line, sizeof line, "%.6f,%.6f,%.9g,%.9g,%.9g,%s,%d\n", m.start, m.end, m.pathLength,
+                  m.chord, m.peakSpeed, m.hasJerk ? number(m.logDimensionlessJerk).c_str() : "",
+                  m.inContact ? 1 : 0);
     out += line;
   }
   return out;

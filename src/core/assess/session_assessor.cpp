@@ -62,6 +62,7 @@ bool SessionAssessor::addForce(double t, const Eigen::Vector3d& force, bool inCo
   if (restart) restarts_.push_back(SimulationRestart{t, t - previous});
   force_.add(t, force, inContact, restart);
   forceSeries_.push_back(TimedValue{t, force.norm()});
+  if (inContact) contactTimes_.push_back(t);
   return true;
 }
 
@@ -102,10 +103,14 @@ AssessmentReport SessionAssessor::report() const {
   const bool tipSpan = tipCounts_.accepted >= 2;
   const bool jerk = k.jerkTime > 0.0;
   const bool moved = !k.movementList.empty();
-  std::vector<double> ldlj, durations, peakSpeeds;
+  std::vector<double> ldlj, reachLdlj, durations, peakSpeeds;
   double chords = 0.0, movedLength = 0.0;
-  for (const Movement& m : k.movementList) {
+  for (Movement& m : k.movementList) {
+    // A contact sample within the movement (times in the session's frame, as the movement's).
+    const auto first = std::lower_bound(contactTimes_.begin(), contactTimes_.end(), m.start + sessionStart);
+    m.inContact = first != contactTimes_.end() && *first <= m.end + sessionStart;
     if (m.hasJerk) ldlj.push_back(m.logDimensionlessJerk);
+    if (m.hasJerk && !m.inContact) reachLdlj.push_back(m.logDimensionlessJerk);
     durations.push_back(m.duration());
     peakSpeeds.push_back(m.peakSpeed);
     chords += m.chord;
@@ -129,6 +134,9 @@ AssessmentReport SessionAssessor::report() const {
   add("ldlj_median", "1", !ldlj.empty(), median(ldlj),
       "median over movements of the log dimensionless jerk -ln(1/2 int |jerk|^2 dt D^5 / A^2) "
       "(minimum-jerk reach: -5.886; lower is less smooth)");
+  add("ldlj_reach_median", "1", !reachLdlj.empty(), median(reachLdlj),
+      "median log dimensionless jerk of the movements without tool-tissue contact (the reaches, "
+      "comparable with the reaching literature)");
   add("ldlj_worst", "1", !ldlj.empty(), ldlj.empty() ? 0.0 : *std::min_element(ldlj.begin(), ldlj.end()),
       "lowest log dimensionless jerk of any movement");
   add("mean_squared_jerk", "m^2/s^6", jerk, jerk ? k.squaredJerkIntegral / k.jerkTime : 0.0,

@@ -1,4 +1,4 @@
-// assess_bag BAG... [--out DIR] [--config FILE] [--bands FILE] [--force-threshold N] ...: the
+// assess_bag BAG... [--out DIR] [--config FILE] [--bands FILE] [--scene FILE] [--force-threshold N] ...: the
 // training assessment of recorded sessions, computed by the same accumulator as the online
 // node from the messages' header stamps. One bag: writes DIR/assessment.yaml, assessment.md,
 // the series (CSV) and the plots (scripts/assessment_plots.py) and prints a summary. Several
@@ -34,11 +34,14 @@
 #include "session_messages.h"
 #include "tissue_trainer/core/assess/assessment_report.h"
 #include "tissue_trainer/core/error.h"
+#include "tissue_trainer/core/scene/display_surface.h"
+#include "tissue_trainer/core/scene/scene.h"
 
 namespace {
 
 const char* kUsage =
-    "usage: assess_bag BAG... [--out DIR] [--config FILE] [--bands FILE|none] [--no-plots]\n"
+    "usage: assess_bag BAG... [--out DIR] [--config FILE] [--bands FILE|none] [--scene FILE]\n"
+    "                  [--no-plots]\n"
     "                  [--force-threshold N] [--movement-speed-start V] [--movement-speed-stop V]\n"
     "                  [--movement-min-pause S] [--resample-rate HZ] [--smoothing-time S]\n"
     "                  [--max-gap S] [--tip-topic T] [--contact-topic T] [--status-topic T]\n"
@@ -47,6 +50,7 @@ const char* kUsage =
     "  --config FILE  settings YAML (the node's config/assessment.yaml); flags override it\n"
     "  --bands FILE   expert/novice reference bands to score against (default:\n"
     "                 config/assessment_bands.yaml of the package; none: no score)\n"
+    "  --scene FILE   the session's scene: its rest surface is drawn under the tip path\n"
     "  --no-plots     write no PNG plots\n";
 
 #ifndef TT_DEFAULT_BANDS
@@ -70,7 +74,7 @@ double parseNumber(const std::string& flag, const std::string& text) {
 
 struct Options {
   std::vector<std::string> bags;
-  std::string out = "assessment", config, bands = TT_DEFAULT_BANDS;
+  std::string out = "assessment", config, bands = TT_DEFAULT_BANDS, scene;
   bool plots = true;
   std::map<std::string, double> numbers;  // flag -> value, applied over the config file
   tt::SessionTopics topics;
@@ -82,7 +86,7 @@ Options parse(int argc, char** argv) {
                                             "--movement-speed-stop", "--movement-min-pause",
                                             "--resample-rate", "--smoothing-time", "--max-gap"};
   std::map<std::string, std::string*> text = {{"--out", &o.out}, {"--config", &o.config},
-                                              {"--bands", &o.bands},
+                                              {"--bands", &o.bands}, {"--scene", &o.scene},
                                               {"--tip-topic", &o.topics.tip},
                                               {"--contact-topic", &o.topics.contact},
                                               {"--status-topic", &o.topics.status}};
@@ -148,6 +152,23 @@ void checkTopics(const rosbag::Bag& bag, const std::string& path, const tt::Sess
 }
 
 namespace fs = std::filesystem;
+
+// The rest surface of a scene as CSV, a triangle a row (world metres), for the tip-path plot.
+std::string tissueSurfaceCsv(const std::string& sceneFile) {
+  const tt::Scene scene = tt::loadScene(sceneFile);
+  const tt::DisplaySurface surface(scene);
+  Eigen::Matrix3Xd vertices;
+  surface.positions(scene.system.state.x, vertices);
+  std::string out = "ax,ay,az,bx,by,bz,cx,cy,cz\n";
+  char line[256];
+  for (const tt::Triangle& t : surface.triangles()) {
+    const Eigen::Vector3d a = vertices.col(t[0]), b = vertices.col(t[1]), c = vertices.col(t[2]);
+    std::snprintf(line, sizeof line, "%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", a.x(), a.y(), a.z(),
+                  b.x(), b.y(), b.z(), c.x(), c.y(), c.z());
+    out += line;
+  }
+  return out;
+}
 
 // The last non-empty line of a file ("" when there is none).
 std::string lastLine(const std::string& path) {
@@ -308,6 +329,15 @@ int main(int argc, char** argv) {
     return 2;
   }
   const bool scored = options.bands != "none";
+  std::string tissueSurface;
+  if (!options.scene.empty()) {
+    try {
+      tissueSurface = tissueSurfaceCsv(options.scene);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "assess_bag: --scene: %s\n", e.what());
+      return 2;
+    }
+  }
 
   // Read every bag first: a bad one stops before anything is written.
   std::vector<tt::SessionResult> sessions;
@@ -333,6 +363,15 @@ int main(int argc, char** argv) {
       const std::string dir = (fs::path(options.out) / r.dir).lexically_normal().string();
       const tt::SkillScore* score = scored ? &r.score : nullptr;
       const std::string yaml = tt::writeAssessment(r.report, dir, options.bags[i], score);
+      const fs::path surfaceCsv = fs::path(dir) / "tissue_surface.csv";
+      if (tissueSurface.empty()) {
+        std::error_code ignored;  // an earlier report's surface is not this session's
+        fs::remove(surfaceCsv, ignored);
+      } else {
+        std::ofstream csv(surfaceCsv.string());
+        csv << tissueSurface;
+        if (!csv) throw std::runtime_error(surfaceCsv.string() + ": cannot write the file");
+      }
       std::printf("assess_bag: %s: %zu messages -> %s\n", options.bags[i].c_str(), messages[i], yaml.c_str());
       if (options.plots) {
         if (runPlots("report", dir))

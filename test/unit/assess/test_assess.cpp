@@ -135,6 +135,37 @@ TEST(Assess, MinimumJerkReach) {
               0.1 * 720 * A * A / std::pow(T, 5) / (T + 1.0));
 }
 
+// A reach through free space, then a press that touches the tissue: only the press is marked
+// in contact, and the reach median takes only the reach.
+TEST(Assess, MovementsInContactAreMarkedAndLeftOutOfTheReachMedian) {
+  SessionAssessor a{AssessmentSettings{}};
+  const Vector3d start(0.0, 0.05, 0.1), down(0, 0, -1);
+  // 0.5 s rest, a 6 cm reach in 1.5 s, 1 s rest, a 1 cm press in 1 s made of two overlapping
+  // minimum-jerk halves (less smooth than the reach), 0.5 s rest.
+  auto position = [&](double t) -> Vector3d {
+    const double reachU = std::clamp((t - 0.5) / 1.5, 0.0, 1.0);
+    const double pressA = std::clamp((t - 3.0) / 0.6, 0.0, 1.0), pressB = std::clamp((t - 3.4) / 0.6, 0.0, 1.0);
+    return start + (0.06 * minimumJerk(reachU) + 0.005 * minimumJerk(pressA) + 0.005 * minimumJerk(pressB)) * down;
+  };
+  for (int i = 0; i <= 4500; ++i) {
+    const double t = i / 1000.0;
+    a.addTip(t, position(t));
+    if (i % 10 == 0) {
+      const bool touching = t > 2.8 && t < 4.2;
+      a.addForce(t, touching ? Vector3d(0, 0, 0.5) : Vector3d::Zero(), touching);
+    }
+  }
+  const AssessmentReport r = a.report();
+  ASSERT_EQ(r.movements.size(), 2u);
+  EXPECT_FALSE(r.movements[0].inContact);
+  EXPECT_TRUE(r.movements[1].inContact);
+  ASSERT_TRUE(r.movements[0].hasJerk && r.movements[1].hasJerk);
+  EXPECT_LT(r.movements[1].logDimensionlessJerk, r.movements[0].logDimensionlessJerk - 0.5);
+  EXPECT_EQ(metric(r, "ldlj_reach_median"), r.movements[0].logDimensionlessJerk);
+  EXPECT_DOUBLE_EQ(metric(r, "ldlj_median"),
+                   0.5 * (r.movements[0].logDimensionlessJerk + r.movements[1].logDimensionlessJerk));
+}
+
 TEST(Assess, LogDimensionlessJerkIgnoresAmplitudeAndHardlyDuration) {
   // Hogan and Sternad 2009: the measure must not change with the reach's size or speed. The
   // size does not change it at all; the duration only through the smoothing (a 1 s reach
@@ -300,13 +331,13 @@ TEST(Assess, RejectedSamplesAreCountedAndIgnored) {
 TEST(Assess, EmptyAndOneSampleInputAreFiniteAndSayNoData) {
   SessionAssessor a{AssessmentSettings{}};
   AssessmentReport r = a.report();
-  ASSERT_EQ(r.metrics.size(), 23u);
+  ASSERT_EQ(r.metrics.size(), 24u);
   for (const Metric& m : r.metrics) {
     EXPECT_TRUE(std::isfinite(m.value)) << m.key;
     EXPECT_FALSE(m.hasData) << m.key;
   }
   const YAML::Node y = YAML::Load(assessmentYaml(r, "empty"));
-  EXPECT_EQ(y["no_data"].size(), 23u);
+  EXPECT_EQ(y["no_data"].size(), 24u);
   EXPECT_NE(assessmentMarkdown(r, "empty").find("| task_time | no data |"), std::string::npos);
 
   a.addTip(1.0, Vector3d(1, 2, 3));
@@ -416,16 +447,18 @@ TEST(Assess, ASimulationRestartIsSkippedAndReported) {
 
 TEST(Assess, YamlRoundTripIsExact) {
   SessionAssessor a{AssessmentSettings{}};
-  for (int i = 0; i <= 1000; ++i) {
-    const double t = i / 1000.0;
-    a.addTip(t, Vector3d(0.03 * std::sin(3 * t), 0.01 * t * t, 0));
-    a.addForce(t, Vector3d(0, 1.7 * std::sin(5 * t), 0), i % 3 != 0);
+  // One movement (the first second) through free space, then contact at rest: every metric,
+  // the reach median too, has data.
+  for (int i = 0; i <= 1600; ++i) {
+    const double t = i / 1000.0, moving = std::min(t, 1.0);
+    a.addTip(t, Vector3d(0.03 * std::sin(3 * moving), 0.01 * moving * moving, 0));
+    a.addForce(t, Vector3d(0, 1.7 * std::sin(5 * t), 0), t > 1.4 && i % 3 != 0);
     a.addStatus(t, 0.1 * t, 1e-6 * t);
   }
   const AssessmentReport r = a.report();
   const YAML::Node y = YAML::Load(assessmentYaml(r, "test"));
   EXPECT_EQ(y["source"].as<std::string>(), "test");
-  EXPECT_EQ(y["samples"]["tip"]["accepted"].as<std::size_t>(), 1001u);
+  EXPECT_EQ(y["samples"]["tip"]["accepted"].as<std::size_t>(), 1601u);
   for (const Metric& m : r.metrics) EXPECT_EQ(y["metrics"][m.key].as<double>(), m.value) << m.key;
   EXPECT_EQ(y["no_data"].size(), 0u);
   EXPECT_EQ(y["simulation_restarts"].size(), 0u);

@@ -98,8 +98,9 @@ TEST(SkillScore, BandFilesAreChecked) {
 // A task played as the operator node plays it (1 kHz, the virtual hand with the node's
 // gains, starting after 1 s and holding 1 s after the end), against a spring plane standing
 // in for the liver: the anterior face at site 1 (z = 0.0652) for x < -0.025 and at site 2
-// (z = 0.0623) beyond, pushing back along +z with `stiffness` per metre of depth. The
-// contact model is sampled at 100 Hz as the simulation publishes it.
+// (z = 0.0623) beyond, pushing back along +z with `stiffness` per metre of depth of the jaw
+// tips (18 mm beyond the hand's tip along the shaft from the trocar). The contact model is
+// sampled at 100 Hz as the simulation publishes it.
 AssessmentReport playAgainstPlane(const std::string& taskFile, double stiffness) {
   const TaskScript task = TaskScript::load(taskFile);
   VirtualHand hand(HandGains{}, task.sample(0.0).tip);
@@ -111,8 +112,9 @@ AssessmentReport playAgainstPlane(const std::string& taskFile, double stiffness)
     const TaskSample target = task.sample(t - delay);
     hand.step(target.tip, t >= delay ? target.tipVelocity : Vector3d::Zero(), force, dt);
     const Vector3d& x = hand.position();
-    const double surface = x.x() < -0.025 ? 0.0652 : 0.0623;
-    const double depth = std::max(0.0, surface - x.z());
+    const Vector3d jawTips = x + 0.018 * (x - Vector3d(-0.035, 0.075, 0.20)).normalized();
+    const double surface = jawTips.x() < -0.025 ? 0.0652 : 0.0623;
+    const double depth = std::max(0.0, surface - jawTips.z());
     if (tick % 10 == 0) {
       force = Vector3d(0, 0, stiffness * depth);  // the haptic loop holds it until the next
       a.addForce(t, force, depth > 0.0);

@@ -81,6 +81,7 @@ class SessionAssessor {
   std::vector<SimulationRestart> restarts_;  // times relative to the stream, not yet the session
   double peakStrain_ = 0.0, peakStrainedVolume_ = 0.0;
   std::vector<TimedValue> forceSeries_, strainSeries_;  // stream times, not yet the session's
+  std::vector<double> contactTimes_;                    // stream times of samples in contact
 };
 
 }  // namespace tt

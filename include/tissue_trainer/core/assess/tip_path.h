@@ -49,6 +49,9 @@ struct Movement {
   double dimensionlessJerk = 0.0;
   double logDimensionlessJerk = 0.0;
   bool hasJerk = false;
+  // The tool touched the tissue during the movement (a press or a release); false: a reach
+  // through free space, the kind of movement the reaching literature's smoothness refers to.
+  bool inContact = false;
   double duration() const { return end - start; }
 };
 
