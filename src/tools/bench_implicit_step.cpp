@@ -11,8 +11,9 @@
 // For every timed step: the wall time of the step (force, assembly, solve) and of the contact
 // query before it, the PCG iterations, the achieved relative residual, the factors or AMG
 // hierarchies built over the row (`fact`, the first one included), and the step's error
-// against the same step solved to 1e-10 from the same state: max |x - x_ref| / max |x_ref -
-// x_start|. Each size starts from the same state (the liver at rest, then the tool pressed in
+// against the same step solved to 1e-10 from the same state with the exact stiffness (rows
+// marked psd build their matrix from the PSD-projected one, the reference never does):
+// max |x - x_ref| / max |x_ref - x_start|. Each size starts from the same state (the liver at rest, then the tool pressed in
 // for 10 steps). Also the
 // time of one factorisation of the system matrix at the start state, per backend, and of one
 // AMG set-up.
@@ -62,6 +63,23 @@ std::string sceneWithMesh(const std::string& mesh) {
   return path;
 }
 
+// The same scene with the edge-length model's PSD-projected stiffness for the system matrix.
+std::string psdSceneOf(const std::string& scenePath) {
+  std::ifstream in(scenePath);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string scene = text.str();
+  const std::string model = "  - type: edge_length\n";
+  const size_t at = scene.find(model);
+  if (at == std::string::npos) throw std::runtime_error(scenePath + " has no '- type: edge_length' line");
+  scene.insert(at + model.size(), "    psd_projection: true\n");
+  const std::string path = scenePath.substr(0, scenePath.size() - 5) + "_psd.yaml";
+  std::ofstream out(path);
+  out << scene;
+  if (!out) throw std::runtime_error("cannot write " + path);
+  return path;
+}
+
 // A CSV field: quoted when it holds a comma.
 std::string csvField(const std::string& text) {
   return text.find(',') == std::string::npos ? text : '"' + text + '"';
@@ -74,6 +92,7 @@ struct Setup {
   int threads;
   double tolerance;
   int refactorIterations = 15;
+  bool psd = false;  // the system matrix from the PSD-projected stiffness (edge_length psd_projection)
 };
 
 struct Result {
@@ -83,7 +102,8 @@ struct Result {
 
 class Bench {
  public:
-  Bench(const std::string& scenePath, int steps) : scenePath_(scenePath), steps_(steps) {}
+  Bench(const std::string& scenePath, int steps)
+      : scenePath_(scenePath), psdScenePath_(psdSceneOf(scenePath)), steps_(steps) {}
 
   // Loads the scene, lets the liver sag to rest under gravity (3 s in steps of 0.1 s; the
   // mass damping of 2/s and backward Euler's own damping settle it), presses the tool and
@@ -106,9 +126,11 @@ class Bench {
 
   Result run(const Setup& setup) {
     setThreadCount(setup.threads);
-    Scene scene = loadScene(scenePath_);
+    Scene scene = loadScene(setup.psd ? psdScenePath_ : scenePath_);
+    Scene exact = loadScene(scenePath_);  // the reference's: the exact stiffness
     scene.system.state = start_;
     auto contact = makeContact(scene);
+    auto exactContact = makeContact(exact);
     BackwardEulerParams params;
     params.linearTolerance = setup.tolerance;
     params.linearMaxIterations = 5000;
@@ -123,9 +145,10 @@ class Bench {
       contact->update();
       const double contactMs = 1e3 * seconds(t0);
       const State before = scene.system.state;
-      reference.advance(scene.system, kStep);
-      const Eigen::VectorXd xRef = scene.system.state.x;
-      scene.system.state = before;
+      exact.system.state = before;
+      exactContact->update();
+      reference.advance(exact.system, kStep);
+      const Eigen::VectorXd xRef = exact.system.state.x;
       t0 = Clock::now();
       const StepReport report = integrator.advance(scene.system, kStep);
       const double stepMs = 1e3 * seconds(t0);
@@ -212,7 +235,7 @@ class Bench {
     return contact;
   }
 
-  std::string scenePath_;
+  std::string scenePath_, psdScenePath_;
   int steps_;
   State start_;
   Eigen::Isometry3d toolPose_ = Eigen::Isometry3d::Identity();
@@ -260,6 +283,9 @@ int runAll(int argc, char** argv) {
       {"amg", amg, cholmod, 1, 1e-3},
       {"amg", amg, cholmod, 2, 1e-3},
       {"amg, refactor > 30", amg, cholmod, 1, 1e-3, 30},
+      {"cholesky, psd", cholesky, cholmod, 1, 1e-3, 15, true},
+      {"cholesky, psd", cholesky, cholmod, 2, 1e-3, 15, true},
+      {"jacobi, psd", jacobi, cholmod, 1, 1e-4, 15, true},
   };
   std::vector<char> wanted(setups.size(), argc <= 3);
   if (argc > 3) {

@@ -134,8 +134,8 @@ double edgeLengthLiteralDensity(const Matrix34d& xe, const EdgeLengthLiteralTet&
 }
 
 EdgeLengthModel::EdgeLengthModel(const Mesh& mesh, const std::vector<Material>& materials,
-                                 EdgeLengthPath path)
-    : tets_(mesh.tets), stvk_(makeStvkTets(mesh, materials)), path_(path) {
+                                 EdgeLengthPath path, bool psdProjection)
+    : tets_(mesh.tets), stvk_(makeStvkTets(mesh, materials)), path_(path), psdProjection_(psdProjection) {
   if (path_ != EdgeLengthPath::kLiteral) return;
   literal_.resize(tets_.size());
   for (size_t e = 0; e < tets_.size(); ++e)
@@ -163,7 +163,7 @@ double EdgeLengthModel::energy(const Eigen::VectorXd& x) const {
 
 void EdgeLengthModel::addStiffness(const Eigen::VectorXd& x, double scale,
                                    const SparsePattern& pattern, SparseMatrix& K) const {
-  addStvkStiffness(x, scale, tets_, stvk_, pattern, K);
+  addStvkStiffness(x, scale, tets_, stvk_, pattern, K, psdProjection_);
 }
 
 }  // namespace tt

@@ -9,13 +9,16 @@ void registerEdgeLengthModel(Registry& registry) {
   e.name = "edge_length";
   e.description =
       "transversely isotropic St Venant-Kirchhoff tetrahedron written with edge lengths";
-  e.keys = {{"path", "fast (F, E, S; default) | literal (the packed edge-length sum and energy)"}};
+  e.keys = {{"path", "fast (F, E, S; default) | literal (the packed edge-length sum and energy)"},
+            {"psd_projection",
+             "false (default) | true: the system matrix from a positive semi-definite stiffness "
+             "(S's negative eigenvalues and a negative fibre coefficient clamped to zero); forces unchanged"}};
   e.presets = {{"edge_length", "", "the fast path"},
                {"edge_length_literal", "{path: literal}", "the literal edge-length path"}};
   e.make = [](const YamlEntry& spec, const ModelContext& c) -> std::unique_ptr<ForceModel> {
     EdgeLengthPath path = EdgeLengthPath::kFast;
     if (spec.has("path")) parseEdgeLengthPath(spec["path"].choice({"fast", "literal"}), path);
-    return std::make_unique<EdgeLengthModel>(c.mesh, c.materials, path);
+    return std::make_unique<EdgeLengthModel>(c.mesh, c.materials, path, spec.boolean("psd_projection", false));
   };
   registry.add(std::move(e));
 }

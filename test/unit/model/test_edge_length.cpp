@@ -4,6 +4,8 @@
 // and their shared analytic stiffness.
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
+
 #include "../model_test_util.h"
 #include "tissue_trainer/core/model/edge_length.h"
 
@@ -139,6 +141,47 @@ TEST(EdgeLength, StretchAlongFibreCostsMoreWhenELExceedsET) {
     EXPECT_NEAR(eAlong - stretchEnergy(m, iso, path, along),
                 aniso[0].fibreCoefficient() * fibreStrain * fibreStrain * tetVolume(m.rest, m.tets[0]),
                 1e-9 * eAlong);
+  }
+}
+
+// The largest eigenvalue of the stiffness dF/dx (the energy Hessian's is minus it) relative to
+// the largest magnitude: > 0 where the Hessian is indefinite.
+double largestStiffnessEigenvalue(const Eigen::MatrixXd& K) {
+  const Eigen::VectorXd eig = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(0.5 * (K + K.transpose())).eigenvalues();
+  return eig.maxCoeff() / eig.cwiseAbs().maxCoeff();
+}
+
+TEST(EdgeLength, PsdProjectionMakesTheCompressedStiffnessPositiveSemiDefinite) {
+  std::mt19937 rng(8);
+  int indefinite = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    Mesh m = boxMesh(2, 1, 1, 0.01, rng);
+    // Compressed to 70 % about the centre, rotated and a little perturbed: S negative there.
+    Eigen::VectorXd x = perturbed(m, 0.0003, rng);
+    const Eigen::Vector3d centre = m.rest.rowwise().mean();
+    for (int a = 0; a < m.numNodes(); ++a) x.segment<3>(3 * a) = centre + 0.7 * (x.segment<3>(3 * a) - centre);
+    x = rigidMotion(x, randomRotation(rng), Eigen::Vector3d(0.01, 0.02, -0.01));
+    const EdgeLengthModel exact(m, testMaterials()), projected(m, testMaterials(), EdgeLengthPath::kFast, true);
+    indefinite += largestStiffnessEigenvalue(denseStiffness(exact, m, x)) > 1e-8;
+    EXPECT_LT(largestStiffnessEigenvalue(denseStiffness(projected, m, x)), 1e-12) << "trial " << trial;
+    EXPECT_EQ(relDiff(force(projected, x), force(exact, x)), 0.0);  // only the matrix changes
+  }
+  EXPECT_EQ(indefinite, 20);  // the projection had work to do in every trial
+}
+
+TEST(EdgeLength, PsdProjectionLeavesAStretchedTetsStiffnessAlone) {
+  std::mt19937 rng(9);
+  for (int trial = 0; trial < 10; ++trial) {
+    Mesh m = randomTet(rng, 0.01);
+    // Stretched by 20 % about the first node and rotated: S positive definite, and the test
+    // materials' fibre coefficients are positive, so the Hessian is already PSD.
+    Eigen::VectorXd x = restVector(m);
+    for (int a = 1; a < 4; ++a) x.segment<3>(3 * a) = m.rest.col(0) + 1.2 * (m.rest.col(a) - m.rest.col(0));
+    x = rigidMotion(x, randomRotation(rng), Eigen::Vector3d(-0.02, 0.01, 0.0));
+    const EdgeLengthModel exact(m, testMaterials()), projected(m, testMaterials(), EdgeLengthPath::kFast, true);
+    const Eigen::MatrixXd K = denseStiffness(exact, m, x);
+    EXPECT_LT(relDiff(denseStiffness(projected, m, x), K), 1e-14) << "trial " << trial;
+    EXPECT_LT(largestStiffnessEigenvalue(K), 1e-12);
   }
 }
 

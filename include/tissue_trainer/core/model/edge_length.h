@@ -45,8 +45,10 @@ double edgeLengthLiteralDensity(const Matrix34d& xe, const EdgeLengthLiteralTet&
 
 class EdgeLengthModel : public ForceModel {
  public:
+  // psdProjection: the stiffness for the system matrix made positive semi-definite
+  // (addStvkTetStiffness); the forces and energy are unchanged.
   EdgeLengthModel(const Mesh& mesh, const std::vector<Material>& materials,
-                  EdgeLengthPath path = EdgeLengthPath::kFast);
+                  EdgeLengthPath path = EdgeLengthPath::kFast, bool psdProjection = false);
 
   const char* name() const override { return "edge_length"; }
   // St Venant-Kirchhoff (it depends on the edge lengths, i.e. on F^T F, only): a mirrored
@@ -60,12 +62,14 @@ class EdgeLengthModel : public ForceModel {
                     SparseMatrix& K) const override;
 
   EdgeLengthPath path() const { return path_; }
+  bool psdProjection() const { return psdProjection_; }
 
  private:
   std::vector<Tet> tets_;
   std::vector<StvkTet> stvk_;
   std::vector<EdgeLengthLiteralTet> literal_;  // filled only for the literal path
   EdgeLengthPath path_;
+  bool psdProjection_ = false;
 };
 
 }  // namespace tt

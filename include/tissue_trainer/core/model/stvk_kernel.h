@@ -7,6 +7,8 @@
 // surgical simulation" (their forces are this polynomial, or its linearisation at rest).
 // Everything here is fixed-size: no allocation.
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <vector>
 
 #include "tissue_trainer/core/mesh/mesh.h"
@@ -140,14 +142,30 @@ inline void stvkTetStiffness(const Matrix34d& xe, const StvkTet& t, Matrix12d& K
   }
 }
 
+// S with its negative eigenvalues set to zero.
+inline Eigen::Matrix3d positivePart(const Eigen::Matrix3d& S) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(S);
+  if (eig.eigenvalues().minCoeff() >= 0.0) return S;
+  const Eigen::Vector3d clamped = eig.eigenvalues().cwiseMax(0.0);
+  return eig.eigenvectors() * clamped.asDiagonal() * eig.eigenvectors().transpose();
+}
+
 // K += scale * Ke of the tet at positions xe, straight into K's values through the tet's
 // offsets in the pattern (the blocks of stvkTetStiffness, each computed once).
 // Adds the rows of the local nodes in `rows` (all by default) of -scale dF/dx into K's values.
+// psd: the energy Hessian made positive semi-definite for the system matrix. The Hessian is
+//   dx^T H dx = V0 [tr(dF S dF^T) + lambda tr(dE)^2 + 2 mu dE:dE + 4 c (a0^T dE a0)^2],
+//   dE = sym(F^T dF); with lambda, mu >= 0 only the geometric term (S with a negative
+//   eigenvalue, under compression) and a negative fibre coefficient c can make it indefinite,
+//   so S is replaced by its positive part there and c by max(c, 0): exactly PSD, and equal to
+//   the Hessian wherever S is positive semi-definite and c >= 0.
 inline void addStvkTetStiffness(const Matrix34d& xe, const StvkTet& t, double scale,
                                 const std::array<int, 48>& offsets, double* values,
-                                TetRows rows = kAllTetRows) {
+                                TetRows rows = kAllTetRows, bool psd = false) {
   const Eigen::Matrix3d F = tetDeformationGradient(xe, t.grad);
-  const Eigen::Matrix3d S = stvkSecondPiola(greenStrain(F), t);
+  const Eigen::Matrix3d S = psd ? positivePart(stvkSecondPiola(greenStrain(F), t))
+                                : stvkSecondPiola(greenStrain(F), t);
   Matrix34d H;
   H.noalias() = F * t.grad;
   Matrix34d SG;
@@ -157,7 +175,8 @@ inline void addStvkTetStiffness(const Matrix34d& xe, const StvkTet& t, double sc
   const Eigen::Matrix3d bbt = b * b.transpose();
   const Eigen::Vector4d ag = t.grad.transpose() * t.fibre;
   const double v = -t.volume * scale;
-  const double lambda = v * t.lambda, mu = v * t.mu, c2 = 2.0 * v * t.c;
+  const double c = psd ? std::max(t.c, 0.0) : t.c;
+  const double lambda = v * t.lambda, mu = v * t.mu, c2 = 2.0 * v * c;
   for (int p = 0; p < 4; ++p) {
     for (int q = p; q < 4; ++q) {
       Eigen::Matrix3d block = (mu * t.grad.col(p).dot(t.grad.col(q))) * FFt +
@@ -195,11 +214,11 @@ inline double stvkEnergy(const Eigen::VectorXd& x, const std::vector<Tet>& tets,
 
 inline void addStvkStiffness(const Eigen::VectorXd& x, double scale, const std::vector<Tet>& tets,
                              const std::vector<StvkTet>& data, const SparsePattern& pattern,
-                             SparseMatrix& K) {
+                             SparseMatrix& K, bool psd = false) {
   double* values = K.valuePtr();
   forEachTetByRows(pattern, static_cast<int>(tets.size()), [&](int e, TetRows rows) {
     addStvkTetStiffness(gatherTet(x, tets[e]), data[e], scale, pattern.tetOffsets(e), values,
-                        rows);
+                        rows, psd);
   });
 }
 
