@@ -95,11 +95,21 @@ bool System::hasStiffness() const {
                      [](const auto& m) { return m->hasStiffness(); });
 }
 
-void System::assembleStiffness(const Eigen::VectorXd& x, SparseMatrix& K, double scale) const {
+void System::assembleStiffness(const Eigen::VectorXd& x, SparseMatrix& K, double scale,
+                               bool projected) const {
   if (K.nonZeros() != pattern.nonZeros()) K = pattern.zeroMatrix();  // first call, new couplings
   std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);
-  for (const auto& model : models)
-    if (model->hasStiffness()) model->addStiffness(x, scale, pattern, K);
+  for (const auto& model : models) {
+    if (!model->hasStiffness()) continue;
+    if (projected)
+      model->addProjectedStiffness(x, scale, pattern, K);
+    else
+      model->addStiffness(x, scale, pattern, K);
+  }
+}
+
+bool System::hasProjectedStiffness() const {
+  return std::any_of(models.begin(), models.end(), [](const auto& m) { return m->hasProjectedStiffness(); });
 }
 
 bool System::hasVelocityJacobian() const {

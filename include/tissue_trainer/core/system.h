@@ -77,8 +77,11 @@ class System {
   // True when every model provides an analytic stiffness (implicit integrators need it).
   bool hasStiffness() const;
   // K = scale * sum of the models' df/dx at x, with the system pattern (K is resized if
-  // empty): with scale = -h^2 an implicit step assembles its matrix in place.
-  void assembleStiffness(const Eigen::VectorXd& x, SparseMatrix& K, double scale = 1.0) const;
+  // empty): with scale = -h^2 an implicit step assembles its matrix in place. projected: each
+  // model's positive semi-definite approximation where it has one (addProjectedStiffness).
+  void assembleStiffness(const Eigen::VectorXd& x, SparseMatrix& K, double scale = 1.0,
+                         bool projected = false) const;
+  bool hasProjectedStiffness() const;  // a model has a projection of its own
 
   // True when a model has velocity-dependent forces with an assembled df/dv.
   bool hasVelocityJacobian() const;

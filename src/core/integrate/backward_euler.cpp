@@ -19,12 +19,12 @@ double freeNorm(const System& system, Eigen::VectorXd r) {
 
 void BackwardEulerIntegrator::buildMatrix(const System& system, double h,
                                           const Eigen::VectorXd& x, const Eigen::VectorXd& v,
-                                          SparseMatrix& A) {
+                                          SparseMatrix& A, bool projected) {
   const bool differences = finiteDifferences();
   if (differences)
     differenceJacobians(system, h, x, v, A);
   else
-    system.assembleStiffness(x, A, -h * h);  // in place: no copy of K
+    system.assembleStiffness(x, A, -h * h, projected);  // in place: no copy of K
   if (diagonal_.size() != static_cast<size_t>(A.rows())) {
     diagonal_.assign(A.rows(), -1);
     for (int row = 0; row < A.outerSize(); ++row)
@@ -114,17 +114,31 @@ void BackwardEulerIntegrator::ensureFactor(const System& system, double h) {
   }
   if (rebuilt_->ready() || rebuilt_->busy() || solvesSinceRefusal_ < kRefactorRetrySolves)
     return;
-  if (!rebuilt_->rebuildNow(A_)) {
+  if (!rebuilt_->rebuildNow(factorMatrix())) {
     // Refused here (Cholesky: not positive definite, a stiffness softened by compression; AMG:
-    // a hypre error): the matrix of the rest shape is positive definite, and stays close
-    // enough to precondition the steps near it.
-    const Eigen::Map<const Eigen::VectorXd> rest(system.mesh.rest.data(),
-                                                 system.mesh.rest.size());
-    buildMatrix(system, h, rest, Eigen::VectorXd::Zero(rest.size()), restA_);
-    system.constrainMatrix(restA_);
-    rebuilt_->rebuildNow(restA_);
+    // a hypre error). The projected matrix of this state is positive definite and closest to
+    // A_; without a projection, the matrix of the rest shape is, and stays close enough to
+    // precondition the steps near it.
+    const bool projectable = !projectFactors_ && !finiteDifferences() && system.hasProjectedStiffness();
+    if (projectable) projectFactors_ = true;
+    if (!projectable || !rebuilt_->rebuildNow(factorMatrix())) {
+      const Eigen::Map<const Eigen::VectorXd> rest(system.mesh.rest.data(),
+                                                   system.mesh.rest.size());
+      buildMatrix(system, h, rest, Eigen::VectorXd::Zero(rest.size()), restA_);
+      system.constrainMatrix(restA_);
+      rebuilt_->rebuildNow(restA_);
+    }
   }
   noteRefusals();
+}
+
+const SparseMatrix& BackwardEulerIntegrator::factorMatrix() {
+  if (!projectFactors_ || !stepSystem_) return A_;
+  const System& system = *stepSystem_;
+  buildMatrix(system, stepH_, system.state.x, system.state.v, projectedA_, true);
+  system.constrainMatrix(projectedA_);
+  ++diagnostics_.projectedFactors;
+  return projectedA_;
 }
 
 void BackwardEulerIntegrator::noteRefusals() {
@@ -139,9 +153,11 @@ void BackwardEulerIntegrator::noteRefusals() {
 void BackwardEulerIntegrator::considerRefactor(int iterations, bool lostCurvature) {
   if (!rebuilt_) return;
   ++solvesSinceRefusal_;
-  const bool slow = iterations > params.refactorIterations || lostCurvature;
+  // Negative curvature says the factor is stale, unless it is a projected one: the exact
+  // matrix is indefinite then, and a new factor would meet it again.
+  const bool slow = iterations > params.refactorIterations || (lostCurvature && !projectFactors_);
   if (slow && !rebuilt_->busy() && solvesSinceRefusal_ >= kRefactorRetrySolves)
-    rebuilt_->rebuild(A_);
+    rebuilt_->rebuild(factorMatrix());
   noteRefusals();
 }
 
@@ -266,6 +282,8 @@ StepAttempt BackwardEulerIntegrator::attempt(System& system, const StepContext& 
                   "backward_euler: non-finite force or stiffness at t = " + std::to_string(s.t));
   }
   system.constrainMatrix(A_);
+  stepSystem_ = &system;
+  stepH_ = h;
   ensureFactor(system, h);
   if (!params.warmStart || dv_.size() != n) dv_.setZero(n);
   else if (lastStep_ > 0.0 && h != lastStep_) dv_ *= h / lastStep_;  // dv grows with h

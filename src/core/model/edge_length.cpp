@@ -166,4 +166,9 @@ void EdgeLengthModel::addStiffness(const Eigen::VectorXd& x, double scale,
   addStvkStiffness(x, scale, tets_, stvk_, pattern, K, psdProjection_);
 }
 
+void EdgeLengthModel::addProjectedStiffness(const Eigen::VectorXd& x, double scale,
+                                            const SparsePattern& pattern, SparseMatrix& K) const {
+  addStvkStiffness(x, scale, tets_, stvk_, pattern, K, true);
+}
+
 }  // namespace tt

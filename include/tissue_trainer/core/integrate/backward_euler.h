@@ -102,6 +102,7 @@ struct BackwardEulerDiagnostics {
   int lastIterations = 0;             // of the last linear solve
   int factorizations = 0;             // Cholesky factors installed or AMG hierarchies set up
   int notPositiveDefinite = 0;        // matrices the Cholesky factorisation refused
+  int projectedFactors = 0;           // factor builds started from the PSD-projected matrix (after a refusal)
   int amgFailures = 0;                // AMG set-ups and V-cycles that hypre failed
   std::string lastRefusal;            // why the last refused factorisation or set-up was refused
   int jacobiFallbacks = 0;            // solves preconditioned by Jacobi for want of a factor
@@ -133,8 +134,9 @@ class BackwardEulerIntegrator : public SteppedIntegrator {
   // differences, A = M - h^2 df/dx - h df/dv of the total force, c included in df/dv (C_).
   // A has the system's pattern (A_, or the rest shape's restA_). The caller applies the
   // constraints.
+  // projected: the models' PSD-projected stiffness (System::assembleStiffness).
   void buildMatrix(const System& system, double h, const Eigen::VectorXd& x,
-                   const Eigen::VectorXd& v, SparseMatrix& A);
+                   const Eigen::VectorXd& v, SparseMatrix& A, bool projected = false);
   bool finiteDifferences() const {
     return params.jacobian == BackwardEulerParams::Jacobian::kFiniteDifference;
   }
@@ -151,9 +153,14 @@ class BackwardEulerIntegrator : public SteppedIntegrator {
   SolveSettings solveSettings() const {
     return {params.linearTolerance, params.linearMaxIterations, params.gmresRestart};
   }
-  // With Cholesky or AMG and none installed: builds it from A_ now, or from the rest shape's
-  // matrix when A_ is refused (constrained as A_ is).
+  // With Cholesky or AMG and none installed: builds it from A_ now. When A_ is refused (not
+  // positive definite: a stiffness softened by compression) it is built from the matrix with
+  // the models' PSD-projected stiffness at the same state, and so are the factors after it;
+  // without a projection, from the rest shape's matrix. All constrained as A_ is.
   void ensureFactor(const System& system, double h);
+  // The matrix a factor is built from now: A_, or after a refusal the projected matrix of the
+  // step being taken (stepSystem_, stepH_).
+  const SparseMatrix& factorMatrix();
   // The preconditioner for A_ in this solve: the factor or hierarchy when installed, else
   // Jacobi.
   const Preconditioner& choosePreconditioner();
@@ -163,7 +170,10 @@ class BackwardEulerIntegrator : public SteppedIntegrator {
   int finishSolve(const SolveReport& report, int earlierIterations, bool lostCurvature);
 
   BackwardEulerDiagnostics diagnostics_;
-  SparseMatrix A_, C_, restA_;
+  SparseMatrix A_, C_, restA_, projectedA_;
+  bool projectFactors_ = false;        // a factor of A_ was refused: factor projectedA_
+  const System* stepSystem_ = nullptr;  // the step being taken (attempt), for factorMatrix
+  double stepH_ = 0.0;
   std::vector<int> diagonal_;  // offset of (i, i) in the value array of the system pattern
   Eigen::VectorXd dv_, f_, rhs_, constrainedDv_, residual_, correction_;
   Eigen::VectorXd unitB_, guess_, diagonalValues_;

@@ -60,6 +60,9 @@ class EdgeLengthModel : public ForceModel {
   bool hasStiffness() const override { return true; }
   void addStiffness(const Eigen::VectorXd& x, double scale, const SparsePattern& pattern,
                     SparseMatrix& K) const override;
+  bool hasProjectedStiffness() const override { return true; }
+  void addProjectedStiffness(const Eigen::VectorXd& x, double scale, const SparsePattern& pattern,
+                             SparseMatrix& K) const override;
 
   EdgeLengthPath path() const { return path_; }
   bool psdProjection() const { return psdProjection_; }

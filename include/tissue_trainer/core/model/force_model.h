@@ -38,6 +38,16 @@ class ForceModel {
   virtual void addStiffness(const Eigen::VectorXd& /*x*/, double /*scale*/,
                             const SparsePattern& /*pattern*/, SparseMatrix& /*K*/) const {}
 
+  // As addStiffness, with the energy Hessian -df/dx replaced by a positive semi-definite
+  // approximation: what a preconditioner's factor is made from where the exact matrix is
+  // indefinite (BackwardEulerIntegrator). Models that answer true implement it; the default is
+  // the stiffness itself.
+  virtual bool hasProjectedStiffness() const { return false; }
+  virtual void addProjectedStiffness(const Eigen::VectorXd& x, double scale, const SparsePattern& pattern,
+                                     SparseMatrix& K) const {
+    addStiffness(x, scale, pattern, K);
+  }
+
   // out += scale * (df/dx at x) d without assembling K (matrix-free solvers, the
   // stiffness-times-vector output of tissue_cli). Models that answer true implement it.
   virtual bool hasStiffnessProduct() const { return false; }
