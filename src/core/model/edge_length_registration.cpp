@@ -15,7 +15,7 @@ void registerEdgeLengthModel(Registry& registry) {
   e.make = [](const YamlEntry& spec, const ModelContext& c) -> std::unique_ptr<ForceModel> {
     EdgeLengthPath path = EdgeLengthPath::kFast;
     if (spec.has("path")) parseEdgeLengthPath(spec["path"].choice({"fast", "literal"}), path);
-    return std::make_unique<EdgeLengthModel>(c.mesh, c.materials, path);
+    return std::make_unique<EdgeLengthModel>(c.mesh, c.withElasticConstants("edge_length"), path);
   };
   registry.add(std::move(e));
 }
