@@ -304,7 +304,7 @@ TEST(Registry, ThePreconditionerKeySelectsEachAndATypoNamesTheAcceptedValues) {
 TEST(Registry, PresetOptionsReachTheModel) {
   Mesh mesh = boxGrid(2, 2, 2, Eigen::Vector3d(0.01, 0.01, 0.01), TetSplit::kFive);
   mesh.material.assign(mesh.numTets(), 0);
-  const std::vector<Material> materials(1);
+  const std::vector<Material> materials{Material::isotropic(3000.0, 0.3, 1000.0)};
   auto path = [&](const std::string& preset) {
     const auto model = makeElasticModel(preset, mesh, materials);
     return dynamic_cast<const EdgeLengthModel&>(*model).path();
