@@ -438,7 +438,8 @@ void sweepCriticalStep(const Grid& g, bool quick, const std::string& path) {
     for (double young : g.young)
       for (double poisson : {0.3, 0.49}) {
         const Material m = Material::isotropic(young, poisson, kDensity);
-        const double c = std::sqrt((m.lambda + 2.0 * m.mu) / kDensity);
+        const ElasticConstants& k = m.elasticConstants();
+        const double c = std::sqrt((k.lambda + 2.0 * k.mu) / kDensity);
         auto s = blockSystem(model, young, poisson, mesh);
         const double wmax = s->hasStiffness() ? omegaMax(*s) : NAN;
         const double se = explicitLimit("symplectic_euler", model, young, poisson, mesh);
@@ -561,7 +562,7 @@ void sweepExtremes(bool quick, const std::string& path,
           c.setup(*s);
           // Growth against the larger of the initial energy and mu V / 2, the energy of a
           // unit strain of the whole block.
-          const double scale = 0.5 * Material::isotropic(young, poisson, kDensity).mu *
+          const double scale = 0.5 * ElasticConstants::isotropic(young, poisson).mu *
                                kBlock * kBlock * kBlock;
           o[guarded] = run(*s, makeStepper(integrator, h), h, frames, guarded == 1, scale,
                            c.driven);

@@ -151,7 +151,8 @@ class Body {
     world_.getWorldInfo().m_sparsesdf.Initialize();
     buildBody(s);
 
-    const double mu = s.materials.front().mu, lambda = s.materials.front().lambda;  // ours
+    const ElasticConstants& ours = s.materials.front().elasticConstants();
+    const double mu = ours.mu, lambda = ours.lambda;
     if (settings.model == "bullet_linear_elasticity")
       elastic_ = std::make_unique<btDeformableLinearElasticityForce>(mu, lambda, 0.0, 0.0);
     else

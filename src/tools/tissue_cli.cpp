@@ -130,9 +130,12 @@ bool isScene(const std::string& path) {
 }
 
 // Speed of the longitudinal (P) wave, sqrt((lambda + 2 mu) / rho), with the larger of the
-// transverse and the fibre pair (m/s).
+// transverse and the fibre pair (m/s); 0 for a material without Lame constants (its law reads
+// others, e.g. hunter).
 double pWaveSpeed(const tt::Material& m) {
-  return std::sqrt(std::max(m.lambda + 2.0 * m.mu, m.lambdaL + 2.0 * m.muL) / m.density);
+  if (!m.elastic) return 0.0;
+  const tt::ElasticConstants& k = *m.elastic;
+  return std::sqrt(std::max(k.lambda + 2.0 * k.mu, k.lambdaL + 2.0 * k.muL) / m.density);
 }
 
 // The scene's placed mesh, then the critical step of "Adamss: Advanced Anisotropic
@@ -419,11 +422,12 @@ int forces(const Arguments& args) {
     mesh.hexMaterial.assign(mesh.numHexes(), 0);
     return forcesOfMuscle(args, mesh);
   }
-  tt::Material material;
-  material.lambda = args.number("lambda");
-  material.mu = args.number("mu");
-  material.lambdaL = args.has("lambda-l") ? args.number("lambda-l") : material.lambda;
-  material.muL = args.has("mu-l") ? args.number("mu-l") : material.mu;
+  tt::ElasticConstants k;
+  k.lambda = args.number("lambda");
+  k.mu = args.number("mu");
+  k.lambdaL = args.has("lambda-l") ? args.number("lambda-l") : k.lambda;
+  k.muL = args.has("mu-l") ? args.number("mu-l") : k.mu;
+  const tt::Material material = tt::Material::withConstants(k, 1000.0);
   if (args.has("fiber")) {
     Eigen::Vector3d a0(args.number("fiber", 0), args.number("fiber", 1), args.number("fiber", 2));
     if (a0.norm() == 0.0) throw UsageError("--fiber expects a non-zero direction");

@@ -69,8 +69,9 @@ void registerHunterLaw(Registry& registry) {
       "Hunter pole-zero law of myocardium (Adamss Eq. 2.153) in each element's fibre frame; "
       "infinite energy beyond a pole",
       {{"hunter", kHunterKeyDoc}},
-      lawModelFactory<HunterLaw>(
-          [](const YamlEntry* entry, const Material&) { return readHunter(entry); })});
+      lawModelFactory<HunterLaw>([](const ModelContext& context, std::size_t m) {
+        return readHunter(context.entry(m));
+      })});
 }
 
 void registerHunterPolynomialLaw(Registry& registry) {
@@ -82,7 +83,8 @@ void registerHunterPolynomialLaw(Registry& registry) {
        {"hunter_polynomial",
         "{switch_fraction: s in (0, 1), default 0.9: each term switches at E = s a; degree: n "
         "in [2, 6], default 3: the Taylor polynomial's degree}"}},
-      lawModelFactory<HunterPolynomialLaw>([](const YamlEntry* entry, const Material&) {
+      lawModelFactory<HunterPolynomialLaw>([](const ModelContext& context, std::size_t m) {
+        const YamlEntry* entry = context.entry(m);
         HunterPolynomialLaw::Constants c;
         c.hunter = readHunter(entry);
         if (entry && entry->has("hunter_polynomial")) {

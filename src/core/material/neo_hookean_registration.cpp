@@ -7,12 +7,14 @@ namespace tt {
 void registerNeoHookeanLaw(Registry& registry) {
   registry.add(LawEntry{
       NeoHookeanLaw::kName,
-      "compressible Neo-Hookean (isotropic; J > 0, so inverting scenes add inversion_threshold)",
+      "compressible Neo-Hookean (isotropic; the material's young_modulus/poisson_ratio or "
+      "lambda/mu; J > 0, so inverting scenes add inversion_threshold)",
       {},
-      lawModelFactory<NeoHookeanLaw>([](const YamlEntry* entry, const Material& common) {
-        if (entry && (common.lambdaL != common.lambda || common.muL != common.mu))
-          entry->fail("neo_hookean is isotropic: expected no longitudinal constants");
-        return NeoHookeanLaw::constants(common);
+      lawModelFactory<NeoHookeanLaw>([](const ModelContext& context, std::size_t m) {
+        const ElasticConstants& k = context.elastic(m, NeoHookeanLaw::kName);
+        if (context.entry(m) && (k.lambdaL != k.lambda || k.muL != k.mu))
+          context.entry(m)->fail("neo_hookean is isotropic: expected no longitudinal constants");
+        return NeoHookeanLaw::constants(k);
       })});
 }
 

@@ -7,11 +7,13 @@ namespace tt {
 void registerStvkLaw(Registry& registry) {
   registry.add(LawEntry{
       StvkLaw::kName,
-      "transversely isotropic St Venant-Kirchhoff: the common Lame constants, the longitudinal "
-      "pair along each element's fibre axis",
+      "transversely isotropic St Venant-Kirchhoff: the material's Lame constants "
+      "(young_modulus/poisson_ratio or lambda/mu), the longitudinal pair along each element's "
+      "fibre axis",
       {},
-      lawModelFactory<StvkLaw>(
-          [](const YamlEntry*, const Material& common) { return StvkLaw::constants(common); })});
+      lawModelFactory<StvkLaw>([](const ModelContext& context, std::size_t m) {
+        return StvkLaw::constants(context.elastic(m, StvkLaw::kName));
+      })});
 }
 
 }  // namespace tt

@@ -60,7 +60,9 @@ void registerTeranMuscleLaw(Registry& registry) {
       "(0.25 in PhysBAM)",
       {{"teran_muscle", kTeranKeyDoc}},
       lawModelFactory<TeranMuscleLaw>(
-          [](const YamlEntry* entry, const Material&) { return readTeranMuscleConstants(entry); })});
+          [](const ModelContext& context, std::size_t m) {
+            return readTeranMuscleConstants(context.entry(m));
+          })});
 }
 
 }  // namespace tt

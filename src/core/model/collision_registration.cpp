@@ -11,7 +11,7 @@
 #include "tissue_trainer/core/mesh/mesh_io.h"
 #include "tissue_trainer/core/model/collision.h"
 #include "tissue_trainer/core/scene/registry.h"
-#include "tissue_trainer/core/scene/scene.h"
+#include "tissue_trainer/core/scene/selection.h"
 
 namespace tt {
 namespace {

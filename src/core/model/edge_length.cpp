@@ -59,9 +59,10 @@ EdgeLengthLiteralTet makeEdgeLengthLiteralTet(const Eigen::Matrix3Xd& rest, cons
   }
   t.volume = r.volume;
   const double v4 = std::pow(r.volume, 4);
-  t.muScale = m.mu / (162.0 * v4);
-  t.lambdaMuScale = (m.lambda + m.mu) / (162.0 * v4);
-  t.c = m.fibreCoefficient();
+  const ElasticConstants& k = m.elasticConstants();
+  t.muScale = k.mu / (162.0 * v4);
+  t.lambdaMuScale = (k.lambda + k.mu) / (162.0 * v4);
+  t.c = k.fibreCoefficient();
   return t;
 }
 

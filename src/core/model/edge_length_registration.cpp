@@ -18,7 +18,8 @@ void registerEdgeLengthModel(Registry& registry) {
   e.make = [](const YamlEntry& spec, const ModelContext& c) -> std::unique_ptr<ForceModel> {
     EdgeLengthPath path = EdgeLengthPath::kFast;
     if (spec.has("path")) parseEdgeLengthPath(spec["path"].choice({"fast", "literal"}), path);
-    return std::make_unique<EdgeLengthModel>(c.mesh, c.materials, path, spec.boolean("psd_projection", false));
+    return std::make_unique<EdgeLengthModel>(c.mesh, c.withElasticConstants("edge_length"), path,
+                                             spec.boolean("psd_projection", false));
   };
   registry.add(std::move(e));
 }

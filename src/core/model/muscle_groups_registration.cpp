@@ -9,7 +9,7 @@
 #include "../scene/scene_fibres.h"
 #include "tissue_trainer/core/model/law_model_factory.h"
 #include "tissue_trainer/core/model/muscle_groups.h"
-#include "tissue_trainer/core/scene/scene.h"
+#include "tissue_trainer/core/scene/selection.h"
 
 namespace tt {
 namespace {
@@ -96,8 +96,7 @@ void registerMuscleGroupsModel(Registry& registry) {
     std::vector<MuscleGroup> groups = readGroups(spec["muscles"], mesh);
     std::vector<TeranMuscleLaw::Constants> constants;
     for (std::size_t m = 0; m < context.materials.size(); ++m)
-      constants.push_back(readTeranMuscleConstants(
-          m < context.materialEntries.size() ? &context.materialEntries[m] : nullptr));
+      constants.push_back(readTeranMuscleConstants(context.entry(m)));
     try {
       return std::make_unique<MuscleGroupsModel>(mesh, constants, std::move(groups), options);
     } catch (const std::invalid_argument& e) {  // an element inverted or flat at rest

@@ -18,7 +18,8 @@ void registerStvkDisplacementModel(Registry& registry) {
     AlphaSign sign = AlphaSign::kCorrect;
     if (spec.has("alpha_sign"))
       parseAlphaSign(spec["alpha_sign"].choice({"correct", "paper_literal"}), sign);
-    return std::make_unique<StvkDisplacementModel>(c.mesh, c.materials, sign);
+    return std::make_unique<StvkDisplacementModel>(
+        c.mesh, c.withElasticConstants("stvk_displacement"), sign);
   };
   registry.add(std::move(e));
 }

@@ -10,7 +10,7 @@ void registerTensorMassModel(Registry& registry) {
   e.description = "linear (small-strain) transversely isotropic tetrahedron, constant stiffness";
   e.presets = {{"tensor_mass", "", "the linear model"}};
   e.make = [](const YamlEntry&, const ModelContext& c) -> std::unique_ptr<ForceModel> {
-    return std::make_unique<TensorMassModel>(c.mesh, c.materials);
+    return std::make_unique<TensorMassModel>(c.mesh, c.withElasticConstants("tensor_mass"));
   };
   registry.add(std::move(e));
 }

@@ -10,12 +10,14 @@
 #include <iterator>
 
 #include "tissue_trainer/core/integrate/stability_guard.h"
+#include "tissue_trainer/core/material/elastic_constants_reader.h"
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/mesh/mesh_io.h"
 #include "tissue_trainer/core/mesh/node_tags.h"
 #include "tissue_trainer/core/mesh/quality.h"
 #include "tissue_trainer/core/model/gravity.h"
 #include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/scene/selection.h"
 #include "tissue_trainer/core/scene/yaml_file.h"
 #include "tissue_trainer/core/scene/yaml_reader.h"
 #include "scene_fibres.h"
@@ -258,44 +260,6 @@ bool readStabilityGuard(const YamlEntry& spec, StabilityGuardParams& p) {
   return spec.boolean("enabled", true);
 }
 
-}  // namespace
-
-std::vector<int> selectNodes(const YamlEntry& spec, const Mesh& mesh) {
-  std::vector<int> nodes;
-  const int n = mesh.numNodes();
-  if (spec.has("box")) {
-    const YamlEntry box = spec["box"];
-    box.expectMap({"min", "max"});
-    const Eigen::Vector3d lo = box["min"].vector3(), hi = box["max"].vector3();
-    for (int i = 0; i < n; ++i) {
-      const Eigen::Vector3d p = mesh.rest.col(i);
-      if ((p.array() >= lo.array()).all() && (p.array() <= hi.array()).all()) nodes.push_back(i);
-    }
-  } else if (spec.has("plane")) {
-    const YamlEntry plane = spec["plane"];
-    plane.expectMap({"point", "normal", "tolerance"});
-    const Eigen::Vector3d point = plane["point"].vector3();
-    Eigen::Vector3d normal = plane["normal"].vector3();
-    if (normal.norm() == 0.0) plane["normal"].fail("expected a non-zero normal");
-    normal.normalize();
-    const double tol = plane.positive("tolerance", 1e-9 * (mesh.rest.maxCoeff() - mesh.rest.minCoeff() + 1.0));
-    for (int i = 0; i < n; ++i)
-      if (std::abs((mesh.rest.col(i) - point).dot(normal)) <= tol) nodes.push_back(i);
-  } else if (spec.has("nodes")) {
-    const YamlEntry list = spec["nodes"];
-    nodes = list.integers();
-    for (size_t k = 0; k < nodes.size(); ++k)
-      if (nodes[k] < 0 || nodes[k] >= n)
-        list[k].fail("expected a node index in [0, " + std::to_string(n - 1) + "]");
-  } else {
-    spec.fail("expected one of 'box', 'plane' or 'nodes'");
-  }
-  if (nodes.empty()) spec.fail("the selection matches no node");
-  return nodes;
-}
-
-namespace {
-
 std::uint8_t parseAxes(const YamlEntry& e) {
   const std::string axes = e.text();
   std::uint8_t bits = 0;
@@ -309,13 +273,11 @@ std::uint8_t parseAxes(const YamlEntry& e) {
   return bits;
 }
 
-// The keys of a `materials` entry: the common ones and every registered law's own keys.
+// The keys of a `materials` entry: the common ones, the Lame constants (read by the laws and
+// models that use them) and every registered law's own keys.
 std::vector<std::string> materialKeys() {
-  std::vector<std::string> keys{"name", "region", "fibres", "density", "stress_unit",
-                                "young_modulus",
-                                "poisson_ratio", "young_modulus_longitudinal",
-                                "poisson_ratio_longitudinal", "lambda", "mu",
-                                "lambda_longitudinal", "mu_longitudinal"};
+  std::vector<std::string> keys{"name", "region", "fibres", "density", "stress_unit"};
+  for (const std::string& key : elasticConstantKeys()) keys.push_back(key);
   for (const LawEntry& law : registry().laws())
     for (const KeyDoc& k : law.materialKeys)
       if (std::find(keys.begin(), keys.end(), k.key) == keys.end()) keys.push_back(k.key);
@@ -343,86 +305,34 @@ void rejectUnusedLawKeys(const YamlEntry& materialList, const YamlEntry& models)
                                               "', which no force model of this scene uses");
 }
 
+// The Lame constants the force models read go into System::materials; an entry that gives them
+// when no model reads them gets one note naming the keys (earlier scenes had to state them).
+void keepElasticConstants(const YamlEntry& materialList, const ModelContext& context,
+                          System& system, std::vector<std::string>& notes) {
+  for (size_t m = 0; m < materialList.size(); ++m) {
+    if (m < context.elasticRead.size() && context.elasticRead[m]) {
+      system.materials[m].elastic = context.elasticRead[m];
+      continue;
+    }
+    std::string given;
+    for (const std::string& key : elasticConstantKeys())
+      if (materialList[m].has(key.c_str())) given += (given.empty() ? "" : ", ") + key;
+    if (!given.empty())
+      notes.push_back(materialList[m].path() + " (line " +
+                      std::to_string(materialList[m].node().Mark().line + 1) + "): " + given +
+                      " read by no force model of this scene (only stvk, neo_hookean, "
+                      "tensor_mass, edge_length and stvk_displacement read them); remove them");
+  }
+}
+
+// What every material has; the constants of its law are read by the law (ModelContext).
 Material parseMaterial(const YamlEntry& spec) {
   spec.expectMap(materialKeys());
-  const double unit = spec.has("stress_unit") ? stressUnit(spec["stress_unit"]) : 1.0;
-  const double density = spec.positive("density", 1000.0);
-  auto poisson = [](const YamlEntry& e) {
-    const double nu = e.number();
-    if (nu <= -1.0 || nu >= 0.5) e.fail("expected a Poisson ratio in (-1, 0.5)");
-    return nu;
-  };
+  if (spec.has("stress_unit")) stressUnit(spec["stress_unit"]);  // checked even when unread
   Material m;
-  if (spec.has("young_modulus")) {
-    if (spec.has("lambda") || spec.has("mu"))
-      spec.fail("give either young_modulus/poisson_ratio or lambda/mu, not both");
-    const double E = spec["young_modulus"].positive() * unit;
-    const double nu = poisson(spec["poisson_ratio"]);
-    const double EL = spec.has("young_modulus_longitudinal")
-                          ? spec["young_modulus_longitudinal"].positive() * unit : E;
-    const double nuL = spec.has("poisson_ratio_longitudinal")
-                           ? poisson(spec["poisson_ratio_longitudinal"]) : nu;
-    m = Material::transverselyIsotropic(E, nu, EL, nuL, density);
-  } else if (spec.has("mu")) {
-    m.lambda = spec["lambda"].number() * unit;
-    m.mu = spec["mu"].positive() * unit;
-    if (3.0 * m.lambda + 2.0 * m.mu <= 0.0) spec["lambda"].fail("expected 3 lambda + 2 mu > 0");
-    m.lambdaL = spec.has("lambda_longitudinal") ? spec["lambda_longitudinal"].number() * unit : m.lambda;
-    m.muL = spec.has("mu_longitudinal") ? spec["mu_longitudinal"].positive() * unit : m.mu;
-    m.density = density;
-  } else {
-    spec.fail("expected young_modulus and poisson_ratio, or lambda and mu");
-  }
+  m.density = spec.positive("density", m.density);
   return m;
 }
-
-// Element e of the mesh numbered tets first, then hexes.
-Eigen::Vector3d elementCentroid(const Mesh& mesh, int e) {
-  Eigen::Vector3d c = Eigen::Vector3d::Zero();
-  if (e < mesh.numTets()) {
-    for (int a : mesh.tets[e]) c += 0.25 * mesh.rest.col(a);
-  } else {
-    for (int a : mesh.hexes[e - mesh.numTets()]) c += 0.125 * mesh.rest.col(a);
-  }
-  return c;
-}
-
-}  // namespace
-
-std::vector<int> regionElements(const YamlEntry& region, const Mesh& mesh) {
-  const int count = mesh.numTets() + mesh.numHexes();
-  std::vector<int> elements;
-  if (region.node().IsScalar()) {
-    region.choice({"all"});
-    for (int e = 0; e < count; ++e) elements.push_back(e);
-    return elements;
-  }
-  region.expectMap({"box", "elements"});
-  if (region.has("box") == region.has("elements"))
-    region.fail("expected one of 'box' or 'elements'");
-  if (region.has("elements")) {
-    const YamlEntry list = region["elements"];
-    elements = list.integers();
-    for (size_t k = 0; k < elements.size(); ++k)
-      if (elements[k] < 0 || elements[k] >= count)
-        list[k].fail("expected an element index in [0, " + std::to_string(count - 1) + "]");
-    if (elements.empty()) list.fail("expected at least one element index");
-    std::sort(elements.begin(), elements.end());
-    elements.erase(std::unique(elements.begin(), elements.end()), elements.end());
-    return elements;
-  }
-  const YamlEntry box = region["box"];
-  box.expectMap({"min", "max"});
-  const Eigen::Vector3d lo = box["min"].vector3(), hi = box["max"].vector3();
-  for (int e = 0; e < count; ++e) {
-    const Eigen::Vector3d c = elementCentroid(mesh, e);
-    if ((c.array() >= lo.array()).all() && (c.array() <= hi.array()).all()) elements.push_back(e);
-  }
-  if (elements.empty()) region.fail("the region contains no element");
-  return elements;
-}
-
-namespace {
 
 std::vector<Material> assignMaterials(const YamlEntry& list, Mesh& mesh) {
   std::vector<Material> materials;
@@ -627,6 +537,7 @@ Scene loadScene(const std::string& path) {
   for (size_t k = 0; k < models.size(); ++k)
     system.models.push_back(registry().makeForceModel(models[k], context));
   rejectUnusedLawKeys(materialList, models);
+  keepElasticConstants(materialList, context, system, scene.notes);
   for (const auto& model : system.models)
     if (!model->couplings().empty()) {
       system.addCouplingsToPattern();

@@ -139,7 +139,7 @@ TEST(EdgeLength, StretchAlongFibreCostsMoreWhenELExceedsET) {
     // The fibre term adds exactly c (a0^T E a0)^2 V0 to the along-fibre stretch.
     const double fibreStrain = 0.05 + 0.5 * 0.05 * 0.05;
     EXPECT_NEAR(eAlong - stretchEnergy(m, iso, path, along),
-                aniso[0].fibreCoefficient() * fibreStrain * fibreStrain * tetVolume(m.rest, m.tets[0]),
+                aniso[0].elasticConstants().fibreCoefficient() * fibreStrain * fibreStrain * tetVolume(m.rest, m.tets[0]),
                 1e-9 * eAlong);
   }
 }

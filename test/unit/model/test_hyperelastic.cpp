@@ -28,7 +28,8 @@ using namespace testutil;
 template <class Law>
 std::vector<typename Law::Constants> constantsFor(const std::vector<Material>& materials) {
   std::vector<typename Law::Constants> k;
-  for (const Material& m : materials) {
+  for (const Material& material : materials) {
+    const ElasticConstants& m = material.elasticConstants();
     if constexpr (std::is_same_v<Law, VolumeLaw>) {
       k.push_back({0.5 * m.lambda, 1.0});
     } else if constexpr (std::is_same_v<Law, NeoHookeanLaw>) {
@@ -52,7 +53,7 @@ std::vector<typename Law::Constants> constantsFor(const std::vector<Material>& m
       c.deviatoricStretch = k.size() % 2 == 0;
       k.push_back(c);
     } else {
-      k.push_back(Law::constants(m));
+      k.push_back(Law::constants(material));
     }
   }
   return k;

@@ -54,7 +54,7 @@ TEST(MalformedScene, GoodSceneLoads) {
   EXPECT_EQ(scene.system.numNodes(), 27);
   EXPECT_EQ(scene.system.models.size(), 2u);  // edge_length + gravity (listed under loads)
   EXPECT_EQ(scene.system.constrainedDofs.size(), 27u);  // 9 nodes on z = 0, all axes
-  EXPECT_DOUBLE_EQ(scene.system.materials[0].mu, 3000.0 / (2 * 1.4));
+  EXPECT_DOUBLE_EQ(scene.system.materials[0].elastic->mu, 3000.0 / (2 * 1.4));
 }
 
 TEST(MalformedScene, EachErrorNamesFileLineAndKey) {

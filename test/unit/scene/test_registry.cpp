@@ -257,9 +257,10 @@ TEST(Registry, UnknownPresetListsThePresets) {
 TEST(Registry, EveryPresetAndIntegratorBuildsWhatItNames) {
   Mesh mesh = boxGrid(2, 2, 2, Eigen::Vector3d(0.01, 0.01, 0.01), TetSplit::kFive);
   mesh.material.assign(mesh.numTets(), 0);
-  Material m;
-  m.lambda = m.lambdaL = 2000.0;
-  m.mu = m.muL = 1000.0;
+  ElasticConstants k;
+  k.lambda = k.lambdaL = 2000.0;
+  k.mu = k.muL = 1000.0;
+  const Material m = Material::withConstants(k, 1000.0);
   const std::vector<Material> materials{m};
   for (const ForceModelEntry& entry : registry().forceModels())
     for (const ModelPreset& p : entry.presets) {
@@ -303,7 +304,7 @@ TEST(Registry, ThePreconditionerKeySelectsEachAndATypoNamesTheAcceptedValues) {
 TEST(Registry, PresetOptionsReachTheModel) {
   Mesh mesh = boxGrid(2, 2, 2, Eigen::Vector3d(0.01, 0.01, 0.01), TetSplit::kFive);
   mesh.material.assign(mesh.numTets(), 0);
-  const std::vector<Material> materials(1);
+  const std::vector<Material> materials{Material::isotropic(3000.0, 0.3, 1000.0)};
   auto path = [&](const std::string& preset) {
     const auto model = makeElasticModel(preset, mesh, materials);
     return dynamic_cast<const EdgeLengthModel&>(*model).path();

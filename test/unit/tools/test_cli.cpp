@@ -75,8 +75,9 @@ TEST(Cli, ForcesMatchTheCoreModelToTheLastDigit) {
 
   Mesh fibred = mesh;
   for (auto& frame : fibred.fibreFrame) frame.col(0) = Eigen::Vector3d(1, 1, 0).normalized();
-  Material m;
-  m.lambda = 2000, m.mu = 1000, m.lambdaL = 5000, m.muL = 3000;
+  ElasticConstants k;
+  k.lambda = 2000, k.mu = 1000, k.lambdaL = 5000, k.muL = 3000;
+  const Material m = Material::withConstants(k, 1000.0);
   const EdgeLengthModel model(fibred, {m});
   Eigen::VectorXd f = Eigen::VectorXd::Zero(x.size());
   const double energy = model.addForce(x, Eigen::VectorXd::Zero(x.size()), f);
@@ -369,9 +370,10 @@ TEST(Cli, FlagFormStiffnessTimesIsMinusKd) {
   const ForcesOutput out = parseForces(r.out, read.numNodes(), true);
   Mesh one = read;
   one.material.assign(one.numTets(), 0);
-  Material m;
-  m.lambda = m.lambdaL = 2000.0;
-  m.mu = m.muL = 1000.0;
+  ElasticConstants k;
+  k.lambda = k.lambdaL = 2000.0;
+  k.mu = k.muL = 1000.0;
+  const Material m = Material::withConstants(k, 1000.0);
   const StvkDisplacementModel model(one, {m});
   const SparsePattern pattern(one.numNodes(), one.tets);
   SparseMatrix K = pattern.zeroMatrix();
@@ -400,9 +402,10 @@ TEST(Cli, FlagFormOnAHexMesh) {
   const Result r = runCli("forces --model hyperelastic_neo_hookean" + files);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const ForcesOutput out = parseForces(r.out, read.numNodes(), true);
-  Material m;
-  m.lambda = m.lambdaL = 2000.0;
-  m.mu = m.muL = 1000.0;
+  ElasticConstants k;
+  k.lambda = k.lambdaL = 2000.0;
+  k.mu = k.muL = 1000.0;
+  const Material m = Material::withConstants(k, 1000.0);
   const auto model = makeElasticModel("hyperelastic_neo_hookean", read, {m});
   const SparsePattern pattern = meshPattern(read);
   SparseMatrix K = pattern.zeroMatrix();

@@ -37,8 +37,8 @@
 #include <vector>
 
 #include "tissue_trainer/core/contact/contact_force_model.h"
+#include "tissue_trainer/core/contact/contact_settings.h"
 #include "tissue_trainer/core/contact/tool_shape.h"
-#include "tissue_trainer/core/scene/scene.h"
 #include "tissue_trainer/core/system.h"
 
 namespace tt {

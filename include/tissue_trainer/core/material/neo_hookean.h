@@ -24,7 +24,8 @@ struct NeoHookeanLaw {
   };
   using Parameters = Constants;
 
-  static Constants constants(const Material& m) { return {m.mu, m.lambda}; }
+  static Constants constants(const ElasticConstants& k) { return {k.mu, k.lambda}; }
+  static Constants constants(const Material& m) { return constants(m.elasticConstants()); }
   static bool restStressFree(const Constants&) { return true; }
   static Parameters parameters(const Constants& k, const Eigen::Matrix3d&) { return k; }
 

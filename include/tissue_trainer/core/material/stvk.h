@@ -24,7 +24,10 @@ struct StvkLaw {
     Eigen::Vector3d fibre = Eigen::Vector3d::UnitX();  // unit a0
   };
 
-  static Constants constants(const Material& m) { return {m.lambda, m.mu, m.fibreCoefficient()}; }
+  static Constants constants(const ElasticConstants& k) {
+    return {k.lambda, k.mu, k.fibreCoefficient()};
+  }
+  static Constants constants(const Material& m) { return constants(m.elasticConstants()); }
   static bool restStressFree(const Constants&) { return true; }
   static Parameters parameters(const Constants& k, const Eigen::Matrix3d& frame) {
     return {k.lambda, k.mu, k.c, frame.col(0).normalized()};

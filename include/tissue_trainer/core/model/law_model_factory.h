@@ -1,8 +1,8 @@
 #pragma once
 // The registry's factory of the element models over one law (`hyperelastic` and
 // `virtual_hexahedron`), for the law's registration file: `readConstants` makes the law's
-// constants of one material from its `materials` entry (nullptr outside a scene) and its common
-// elastic constants.
+// constants of material m from the context (its `materials` entry, ModelContext::entry, nullptr
+// outside a scene; or its Lame constants, ModelContext::elastic).
 #include <functional>
 #include <memory>
 #include <vector>
@@ -15,18 +15,15 @@ namespace tt {
 
 template <class Law>
 using LawConstantsReader =
-    std::function<typename Law::Constants(const YamlEntry* material, const Material& common)>;
+    std::function<typename Law::Constants(const ModelContext& context, std::size_t material)>;
 
 template <class Law>
 LawModelFactory lawModelFactory(LawConstantsReader<Law> readConstants) {
   return [readConstants](const ModelContext& context,
                          const LawModelRequest& request) -> std::unique_ptr<ForceModel> {
     std::vector<typename Law::Constants> constants;
-    for (std::size_t m = 0; m < context.materials.size(); ++m) {
-      const YamlEntry* entry =
-          m < context.materialEntries.size() ? &context.materialEntries[m] : nullptr;
-      constants.push_back(readConstants(entry, context.materials[m]));
-    }
+    for (std::size_t m = 0; m < context.materials.size(); ++m)
+      constants.push_back(readConstants(context, m));
     if (request.kind == LawModelKind::kVirtualHexahedron)
       return std::make_unique<adamss::VirtualHexahedronModel<Law>>(
           context.mesh, constants, request.options, request.deformationGradient,

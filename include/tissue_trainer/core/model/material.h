@@ -1,48 +1,52 @@
 #pragma once
-// Elastic material constants of one region. Transversely isotropic tissue adds
-// longitudinal Lame constants (lambdaL, muL) along the fibre direction a0; isotropic
-// material has lambdaL == lambda and muL == mu.
+// What every material of a scene has: its density (the lumped masses read it). The constants of
+// a material law are the law's own, read by the law from the `materials` entry when the scene
+// creates it (hunter its hunter map, teran_muscle its teran_muscle map, volume its
+// volume_stiffness). The Lame constants are the one set five laws and models share (stvk,
+// neo_hookean, tensor_mass, edge_length, stvk_displacement): outside a scene they are given
+// here; in a scene the loader sets them once a model has read them from the entry
+// (ModelContext::elastic), and leaves them unset for a material whose laws read others.
+#include <optional>
+#include <stdexcept>
+
+#include "tissue_trainer/core/material/elastic_constants.h"
+
 namespace tt {
 
 struct Material {
-  double lambda = 0.0;   // Pa
-  double mu = 0.0;       // Pa
-  double lambdaL = 0.0;  // Pa, along the fibre
-  double muL = 0.0;      // Pa, along the fibre
-  double density = 1000.0;  // kg/m^3
+  double density = 1000.0;                  // kg/m^3
+  std::optional<ElasticConstants> elastic;  // unset: the material gives no Lame constants
 
   // Lame constants from Young's modulus E (Pa) and Poisson ratio nu in (-1, 0.5).
   static Material isotropic(double E, double nu, double density);
-  // Transverse (E_T, nu_T) and longitudinal (E_L, nu_L) values, as in the muscle of Jeffrey,
-  // "A non-linear anisotropic Finite Element Method for surgical simulation".
+  // Transverse (E_T, nu_T) and longitudinal (E_L, nu_L) values (ElasticConstants).
   static Material transverselyIsotropic(double ET, double nuT, double EL, double nuL,
                                         double density);
+  static Material withConstants(const ElasticConstants& k, double density);
 
-  // Coefficient of the fibre term (a0^T E a0)^2 in the StVK energy density (Jeffrey's Eq 24,
-  // whose printed lambda^T, mu^T must read lambda^L, mu^L): c = (lambdaL - lambda)/2 + (muL - mu).
-  double fibreCoefficient() const { return 0.5 * (lambdaL - lambda) + (muL - mu); }
+  // The Lame constants; std::invalid_argument when unset (a scene checks before, at the entry).
+  const ElasticConstants& elasticConstants() const {
+    if (!elastic)
+      throw std::invalid_argument(
+          "the material gives no Lame constants (young_modulus/poisson_ratio or lambda/mu)");
+    return *elastic;
+  }
 };
 
-inline double lameLambda(double E, double nu) { return E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)); }
-inline double lameMu(double E, double nu) { return E / (2.0 * (1.0 + nu)); }
-
-inline Material Material::isotropic(double E, double nu, double density) {
+inline Material Material::withConstants(const ElasticConstants& k, double density) {
   Material m;
-  m.lambda = m.lambdaL = lameLambda(E, nu);
-  m.mu = m.muL = lameMu(E, nu);
+  m.elastic = k;
   m.density = density;
   return m;
 }
 
+inline Material Material::isotropic(double E, double nu, double density) {
+  return withConstants(ElasticConstants::isotropic(E, nu), density);
+}
+
 inline Material Material::transverselyIsotropic(double ET, double nuT, double EL, double nuL,
                                                 double density) {
-  Material m;
-  m.lambda = lameLambda(ET, nuT);
-  m.mu = lameMu(ET, nuT);
-  m.lambdaL = lameLambda(EL, nuL);
-  m.muL = lameMu(EL, nuL);
-  m.density = density;
-  return m;
+  return withConstants(ElasticConstants::transverselyIsotropic(ET, nuT, EL, nuL), density);
 }
 
 }  // namespace tt

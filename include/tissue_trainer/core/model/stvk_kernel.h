@@ -29,7 +29,7 @@ struct StvkTet {
 
 inline StvkTet makeStvkTet(const Mesh& mesh, const std::vector<Material>& materials, int e) {
   const TetRest r = tetRest(mesh.rest, mesh.tets[e]);
-  const Material& m = materials.at(mesh.material.at(e));
+  const ElasticConstants& m = materials.at(mesh.material.at(e)).elasticConstants();
   StvkTet t;
   t.volume = r.volume;
   t.grad = r.grad;

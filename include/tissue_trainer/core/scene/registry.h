@@ -23,6 +23,7 @@
 // is no default.
 #include <functional>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -44,13 +45,30 @@ struct KeyDoc {
 };
 
 // What a force model is built over. materialEntries are the scene's `materials` entries, one
-// per material id (index = Mesh::material value), for models whose law reads its own
-// parameters from them; it is empty when the model is built outside a scene (benchmarks,
-// `tissue_cli forces --model`), where only the common elastic constants in `materials` exist.
+// per material id (index = Mesh::material value), from which each law reads its own constants;
+// it is empty when the model is built outside a scene (benchmarks, `tissue_cli forces
+// --model`), where the Lame constants come from Material::elastic.
 struct ModelContext {
+  ModelContext(const Mesh& mesh, const std::vector<Material>& materials,
+               std::vector<YamlEntry> materialEntries = {})
+      : mesh(mesh), materials(materials), materialEntries(std::move(materialEntries)) {}
+
   const Mesh& mesh;
   const std::vector<Material>& materials;
   std::vector<YamlEntry> materialEntries;
+
+  // The `materials` entry of material m, nullptr outside a scene.
+  const YamlEntry* entry(std::size_t m) const {
+    return m < materialEntries.size() ? &materialEntries[m] : nullptr;
+  }
+  // The Lame constants of material m for `reader` (the law or model that reads them): in a
+  // scene read once from its entry (an InputError there naming the missing key), else
+  // Material::elastic (std::invalid_argument when unset). elasticRead remembers what was read.
+  const ElasticConstants& elastic(std::size_t m, const std::string& reader) const;
+  // The materials with their Lame constants set, for models that take std::vector<Material>.
+  std::vector<Material> withElasticConstants(const std::string& reader) const;
+
+  mutable std::vector<std::optional<ElasticConstants>> elasticRead;  // per material id
 };
 
 // A named configuration of a force model: the model with fixed options, e.g.
@@ -91,12 +109,12 @@ using LawModelFactory =
                                               const LawModelRequest& request)>;
 
 // A material law (psi(F), P(F), dP; material/law.h). Its entry names the keys a `materials`
-// entry may carry for it beyond the common ones (density, young_modulus, poisson_ratio, the
-// longitudinal pair, lambda/mu, region, name, stress_unit), and builds the element models over
-// the law: model/law_model_factory.h instantiates the models' templates for the law in the
+// entry may carry for it beyond the common ones (density, region, name, fibres, stress_unit)
+// and the Lame constants (material/elastic_constants_reader.h), and builds the element models
+// over the law: model/law_model_factory.h instantiates the models' templates for the law in the
 // law's registration file, and reads the law's constants per material from ModelContext (its
-// materialEntries in a scene, the common constants elsewhere). A key of a law is accepted in
-// every material entry.
+// materialEntries in a scene, Material::elastic elsewhere). A key of a law is accepted in every
+// material entry.
 struct LawEntry {
   std::string name;
   std::string description;

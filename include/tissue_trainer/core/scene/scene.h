@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "tissue_trainer/core/contact/contact_settings.h"
 #include "tissue_trainer/core/integrate/integrator.h"
 #include "tissue_trainer/core/mesh/embedding.h"
 #include "tissue_trainer/core/system.h"
@@ -24,28 +25,6 @@ struct KineticEnergyStop {
 struct SceneOutput {
   int vtuEvery = 0;    // write a VTU file every N frames (0: no VTU series)
   bool csv = false;    // write the per-frame CSV log
-};
-
-// Instrument-tissue contact (scene key `contact`), read by the contact library
-// (tissue_trainer_contact). Plain numbers only: the scene knows nothing of Bullet.
-struct ContactSettings {
-  double stiffness = 200.0;        // penalty k_c per contact point (N/m)
-  // > 0: penalties per surface node inside the tool instead, k_A times the node's area (N/m^3)
-  double stiffnessPerArea = 0.0;
-  double damping = 0.0;            // normal damping per contact point (N s/m; N s/m^3 with k_A)
-  double graspStiffness = 100.0;   // spring from each grasped node to the tip (N/m)
-  double graspJawAngle = 0.1;      // jaw opening (rad) below which the jaws grasp
-  double graspRadius = 0.006;      // nodes within this distance of the jaw centre are grasped (m)
-  int graspMaxNodes = 12;          // at most this many (the nearest) nodes per grasp
-  // The stiffness K sent with f0 to the haptic side: the penalties' alone (the tissue held
-  // fixed), or each penalty in series with the tissue's stiffness at its contact point, so the
-  // felt stiffness follows the tissue's (a stiffening, beating wall feels stiffer at systole).
-  bool tissueInSeries = false;
-  // The tool the contact sees is a proxy that follows the device's tip at most this fast in
-  // simulated time (m/s), so a frame that comes late never finds the tool far inside the
-  // tissue; see tool_proxy.h. 0.1 m/s: above the fastest motion of the shipped task scripts
-  // (0.087 m/s) and 1 cm in the longest frame of the simulation node's default (0.1 s).
-  double toolMaxSpeed = 0.1;
 };
 
 // A finer triangle surface (scene key `render_surface`) embedded into the tet mesh: its
@@ -79,14 +58,5 @@ struct Scene {
 
 // Throws InputError ("FILE:LINE: key.path: what was expected") on any problem.
 Scene loadScene(const std::string& path);
-
-class YamlEntry;
-// The nodes a selection names: {box: {min, max}}, {plane: {point, normal, tolerance}},
-// {nodes: [indices]} (rest positions). An empty result is an error at the entry.
-std::vector<int> selectNodes(const YamlEntry& spec, const Mesh& mesh);
-// The elements (numbered tets first, then hexes) a region names: `all`, {box: {min, max}}
-// (element centroids at rest) or {elements: [indices]}; sorted, each once. A box that holds no
-// centroid is an error at the entry.
-std::vector<int> regionElements(const YamlEntry& region, const Mesh& mesh);
 
 }  // namespace tt

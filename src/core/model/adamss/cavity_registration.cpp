@@ -4,7 +4,7 @@
 
 #include "tissue_trainer/core/model/adamss/cavity.h"
 #include "tissue_trainer/core/scene/registry.h"
-#include "tissue_trainer/core/scene/scene.h"
+#include "tissue_trainer/core/scene/selection.h"
 
 namespace tt {
 namespace {
