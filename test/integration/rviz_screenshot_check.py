@@ -4,18 +4,18 @@
 Usage: rviz_screenshot_check.py VIEW_PPM MIN_TISSUE MIN_INSTRUMENT
 
 VIEW_PPM is a binary 8-bit PPM of the 3D view alone (ImageMagick: import -window ID -depth 8).
-A pixel is tissue when its colour is a shade of the tissue marker's (0.8, 0.35, 0.3)
-(SimulationNode::publishMarker): the lighting scales the three channels alike, so G/R and B/R
+A pixel is tissue when its colour is a shade of the tissue marker's (0.62, 0.22, 0.18)
+(src/nodes/common/tissue_colour.h): the lighting scales the three channels alike, so G/R and B/R
 stay near the marker's. It is instrument when it is a shade of the shaft's steel
 (0.7, 0.7, 0.72, config/instruments/grasper.urdf): grey, not the grid's blue, brighter than
-the background of config/training.rviz (24, 24, 28) and away from the view's most common colour
+the background of config/training.rviz (20, 12, 12) and away from the view's most common colour
 (the background, whichever it is). Prints both fractions of the view; exits 1 when one is
 below its minimum.
 """
 import collections
 import sys
 
-TISSUE = (0.8, 0.35, 0.3)
+TISSUE = (0.62, 0.22, 0.18)
 RATIO_TOLERANCE = 0.06
 TISSUE_MIN_LEVEL = 40  # darker: too few levels for the ratios
 STEEL_MIN_LEVEL = 40

@@ -21,6 +21,7 @@
 #include <tf2_ros/transform_listener.h>
 
 #include "../common/param_reader.h"
+#include "../common/tissue_colour.h"
 #include "instrument_shapes.h"
 #include "offscreen_renderer.h"
 #include "png_writer.h"
@@ -198,7 +199,8 @@ class RendererNode {
       tt_render::Material tissue = tt_render::wetTissue();
       tissue.texture = static_cast<float>(params_.tissueTexture);
       renderer_.setMaterial(tissue);
-      renderer_.drawMesh(positions_, normals_, triangles_, Rgb{0.62f, 0.22f, 0.18f});
+      const tt_nodes::TissueColour c = tt_nodes::kParenchyma;
+      renderer_.drawMesh(positions_, normals_, triangles_, Rgb{c.r, c.g, c.b});
     }
     std::vector<tt_render::Shape> drawn;
     const std::vector<Eigen::Isometry3d> poses = linkPoses(drawn);

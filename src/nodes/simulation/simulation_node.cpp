@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "../common/tissue_colour.h"
 #include "node_params.h"
 #include "tissue_trainer/ContactModel.h"
 #include "tissue_trainer/TissueStatus.h"
@@ -406,9 +407,9 @@ void SimulationNode::publishMarker(const ros::Time& stamp) {
   m.action = visualization_msgs::Marker::ADD;
   m.pose.orientation.w = 1.0;
   m.scale.x = m.scale.y = m.scale.z = 1.0;
-  m.color.r = 0.8f;
-  m.color.g = 0.35f;
-  m.color.b = 0.3f;
+  m.color.r = tt_nodes::kParenchyma.r;
+  m.color.g = tt_nodes::kParenchyma.g;
+  m.color.b = tt_nodes::kParenchyma.b;
   m.color.a = 1.0f;
   m.points.reserve(3 * display_.triangles().size());
   for (const tt::Triangle& t : display_.triangles())
