@@ -56,27 +56,13 @@ const std::string kWork = "/tmp/tt_bench_implicit_step";
 
 std::string refinedLiver(int target, int& tets) { return bench::refinedLiver(kWork, target, tets); }
 
-// The palpation scene with another mesh of the same liver.
-std::string sceneWithMesh(const std::string& mesh) {
-  const std::string path = mesh + ".yaml";
-  bench::writeLiverSceneWithMesh(mesh, path);
-  return path;
-}
-
-// The same scene with the edge-length model's PSD-projected stiffness for the system matrix.
-std::string psdSceneOf(const std::string& scenePath) {
-  std::ifstream in(scenePath);
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string scene = text.str();
-  const std::string model = "  - type: edge_length\n";
-  const size_t at = scene.find(model);
-  if (at == std::string::npos) throw std::runtime_error(scenePath + " has no '- type: edge_length' line");
-  scene.insert(at + model.size(), "    psd_projection: true\n");
-  const std::string path = scenePath.substr(0, scenePath.size() - 5) + "_psd.yaml";
-  std::ofstream out(path);
-  out << scene;
-  if (!out) throw std::runtime_error("cannot write " + path);
+// The palpation scene with another mesh of the same liver; psd: with the edge-length model's
+// PSD-projected stiffness for the system matrix.
+std::string sceneWithMesh(const std::string& mesh, bool psd = false) {
+  const std::string path = mesh + (psd ? "_psd.yaml" : ".yaml");
+  std::vector<bench::SceneEdit> edits;
+  if (psd) edits.push_back({"  - type: edge_length\n", "  - type: edge_length\n    psd_projection: true\n"});
+  bench::writeLiverSceneWithMesh(mesh, path, edits);
   return path;
 }
 
@@ -102,8 +88,8 @@ struct Result {
 
 class Bench {
  public:
-  Bench(const std::string& scenePath, int steps)
-      : scenePath_(scenePath), psdScenePath_(psdSceneOf(scenePath)), steps_(steps) {}
+  Bench(const std::string& scenePath, const std::string& psdScenePath, int steps)
+      : scenePath_(scenePath), psdScenePath_(psdScenePath), steps_(steps) {}
 
   // Loads the scene, lets the liver sag to rest under gravity (3 s in steps of 0.1 s; the
   // mass damping of 2/s and backward Euler's own damping settle it), presses the tool and
@@ -306,7 +292,7 @@ int runAll(int argc, char** argv) {
       continue;
     }
     const int steps = target <= 10000 ? 60 : target <= 50000 ? 20 : 10;
-    Bench bench(sceneWithMesh(mesh), steps);
+    Bench bench(sceneWithMesh(mesh), sceneWithMesh(mesh, true), steps);
     bench.prepare();
     CholeskyPreconditioner cholmodFactor(false, cholmod), simplicialFactor(false, simplicial);
     AmgPreconditioner warmUp, boomerAmg;  // the first set-up also initialises MPI

@@ -73,16 +73,8 @@ struct Run {
 // The palpation scene on `mesh`, its contact per unit area (as scripts/bench_training).
 std::string writeScene(const std::string& mesh) {
   const std::string path = "/tmp/tt_bench_real_time_clock.yaml";
-  bench::writeLiverSceneWithMesh(mesh, path);
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string scene = text.str();
-  const std::string from = "  stiffness: 300          # N/m per contact point";
-  const size_t at = scene.find(from);
-  if (at == std::string::npos) throw std::runtime_error("liver_palpation.yaml has no '" + from + "'");
-  scene.replace(at, from.size(), "  stiffness_per_area: 1e7  # N/m^3");
-  std::ofstream(path) << scene;
+  bench::writeLiverSceneWithMesh(mesh, path, {{"  stiffness: 300          # N/m per contact point",
+                                               "  stiffness_per_area: 1e7  # N/m^3"}});
   return path;
 }
 

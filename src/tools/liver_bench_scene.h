@@ -57,9 +57,15 @@ inline std::string refinedLiver(const std::string& workDir, int target, int& tet
   return dir + "/liver.1.ele";
 }
 
-// Writes the palpation scene with `mesh` (an absolute path) for its liver to `path`; throws
-// when the scene no longer names the files this replaces.
-inline void writeLiverSceneWithMesh(const std::string& mesh, const std::string& path) {
+// A change of the scene's text: `from` (which must be there) becomes `to`.
+struct SceneEdit {
+  std::string from, to;
+};
+
+// Writes the palpation scene with `mesh` (an absolute path) for its liver to `path`, with
+// `edits` applied after; throws when the scene no longer holds the text one replaces.
+inline void writeLiverSceneWithMesh(const std::string& mesh, const std::string& path,
+                                    const std::vector<SceneEdit>& edits = {}) {
   std::ifstream in(sourceDir() + "/config/scenes/liver_palpation.yaml");
   std::stringstream text;
   text << in.rdbuf();
@@ -71,6 +77,7 @@ inline void writeLiverSceneWithMesh(const std::string& mesh, const std::string& 
   };
   replace("file: ../meshes/liver.msh", "file: " + mesh);
   replace("file: ../meshes/liver-smooth.obj", "file: " + sourceDir() + "/config/meshes/liver-smooth.obj");
+  for (const SceneEdit& e : edits) replace(e.from, e.to);
   std::ofstream out(path);
   out << scene;
   if (!out) throw std::runtime_error("cannot write " + path);
