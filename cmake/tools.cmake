@@ -2,11 +2,16 @@
 # linked with the core; TT_TOOLS lists them. Included by the catkin build (CMakeLists.txt) and
 # by the standalone build (test/standalone, TT_BUILD_TOOLS=ON), after cmake/core.cmake.
 set(TT_TOOLS "")
+# What the programs share: the command line (src/tools/common).
+file(GLOB TT_TOOLS_COMMON_SOURCES CONFIGURE_DEPENDS "${TT_ROOT}/src/tools/common/*.cpp")
+add_library(tt_tools_common STATIC ${TT_TOOLS_COMMON_SOURCES})
+target_include_directories(tt_tools_common PUBLIC "${TT_ROOT}/src/tools")
+target_compile_options(tt_tools_common PRIVATE -Wall -Wextra)
 file(GLOB TT_TOOL_SOURCES CONFIGURE_DEPENDS "${TT_ROOT}/src/tools/*.cpp")
 foreach(src ${TT_TOOL_SOURCES})
   get_filename_component(tool ${src} NAME_WE)
   add_executable(${tool} ${src})
-  target_link_libraries(${tool} tissue_trainer_core)
+  target_link_libraries(${tool} tissue_trainer_core tt_tools_common)
   target_compile_options(${tool} PRIVATE -Wall -Wextra)
   # Where the repository's config/ is when $TT_SOURCE_DIR does not say.
   target_compile_definitions(${tool} PRIVATE TT_SOURCE_ROOT="${TT_ROOT}")
@@ -16,7 +21,7 @@ endforeach()
 # bench_adamss has one source file per experiment, in src/tools/bench_adamss/.
 file(GLOB TT_BENCH_ADAMSS_SOURCES CONFIGURE_DEPENDS "${TT_ROOT}/src/tools/bench_adamss/*.cpp")
 add_executable(bench_adamss ${TT_BENCH_ADAMSS_SOURCES})
-target_link_libraries(bench_adamss tissue_trainer_core)
+target_link_libraries(bench_adamss tissue_trainer_core tt_tools_common)
 target_compile_options(bench_adamss PRIVATE -Wall -Wextra)
 target_compile_definitions(bench_adamss PRIVATE TT_SOURCE_ROOT="${TT_ROOT}")
 list(APPEND TT_TOOLS bench_adamss)

@@ -7,7 +7,7 @@
 // forward-Euler steps (the chapter's start). Prints the errors and the observed orders
 // log2(e(h) / e(h/2)).
 //
-//   bench_abm3_corrector
+//   bench_abm3_corrector [--quick]   (--quick: the same; it takes milliseconds)
 //
 // With a = M^-1 F and the Adams-Bashforth predictor of Eqs. 2.138-2.139 (the same in both), the
 // printed corrector is
@@ -24,6 +24,8 @@
 #include <functional>
 #include <string>
 #include <vector>
+
+#include "common/command_line.h"
 
 namespace {
 
@@ -96,7 +98,10 @@ void table(const char* title, const Rhs& f, const Rhs& printedTerm,
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
+  tt::tools::CommandLine options(argc, argv, "bench_abm3_corrector [--quick]");
+  options.flag("--quick");
+  options.finish();
   // y = (u, v), f = (v, -u): the printed corrector puts u~ where v(y~) belongs (the position
   // equation) and v~ where a(y~) = -u~ belongs (the velocity equation), i.e. y~ itself.
   const Rhs oscillator = [](const Vec& y) { return Vec{y[1], -y[0]}; };

@@ -6,7 +6,7 @@
 // builds) and of a whole backward-Euler step (h = 10 ms, Jacobi-PCG to 1e-6 from zero), the
 // force evaluations per Jacobian pair, and the largest entry error of the finite-difference
 // df/dx against the analytic one, relative to the largest entry. One thread.
-//   bench_fd_jacobian [--repeats N] [--sizes 1k,10k]
+//   bench_fd_jacobian [--quick] [--repeats N] [--sizes 1k,10k]   (--quick: 1k, one repeat)
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "bench_support.h"
+#include "common/command_line.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/integrate/finite_difference_jacobian.h"
 #include "tissue_trainer/core/material/neo_hookean.h"
@@ -127,19 +128,12 @@ void measure(int nx, int ny, int nz, int repeats) {
 
 int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
-  int repeats = 5;
-  std::vector<std::string> sizes = {"1k", "10k"};
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--repeats" && i + 1 < argc) {
-      repeats = bench::positiveInteger("bench_fd_jacobian", arg, argv[++i]);
-    } else if (arg == "--sizes" && i + 1 < argc) {
-      sizes = bench::splitList(argv[++i]);
-    } else {
-      std::fprintf(stderr, "usage: bench_fd_jacobian [--repeats N] [--sizes 1k,10k]\n");
-      return 2;
-    }
-  }
+  tools::CommandLine options(argc, argv, "bench_fd_jacobian [--quick] [--repeats N] [--sizes 1k,10k]");
+  const bool quick = options.flag("--quick");
+  const int repeats = options.positiveInteger("--repeats", quick ? 1 : 5);
+  const std::vector<std::string> sizes = options.list(
+      "--sizes", quick ? std::vector<std::string>{"1k"} : std::vector<std::string>{"1k", "10k"});
+  options.finish();
   setThreadCount(1);
   for (const std::string& size : sizes) {
     if (size == "1k") {
@@ -147,8 +141,7 @@ int main(int argc, char** argv) {
     } else if (size == "10k") {
       measure(12, 12, 12, repeats);  // 10368 tets
     } else {
-      std::fprintf(stderr, "bench_fd_jacobian: --sizes takes 1k and 10k, got '%s'\n", size.c_str());
-      return 2;
+      options.fail("--sizes takes 1k and 10k, got '" + size + "'");
     }
   }
   return 0;

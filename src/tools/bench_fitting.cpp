@@ -7,7 +7,7 @@
 // Usage: bench_fitting [--only block|tongue] [--quick] [--out DIR]
 //        bench_fitting --tongue-targets   (prints the markers' targets at the tongue's truth)
 //        bench_fitting --tongue-sensitivity   (marker motion per unit activation there)
-// --quick: the tongue without noise only. --out DIR writes DIR/fitting_block.csv and
+// --quick: the tongue's activations without noise only. --out DIR writes DIR/fitting_block.csv and
 // DIR/fitting_tongue.csv besides the Markdown tables on stdout.
 #include <chrono>
 #include <cstdio>
@@ -19,6 +19,7 @@
 #include <Eigen/SVD>
 
 #include "bench_fitting_tongue.h"
+#include "common/command_line.h"
 #include "tissue_trainer/core/fit/landmark_fit.h"
 #include "tissue_trainer/core/model/activated_force_model.h"
 #include "tissue_trainer/core/scene/scene.h"
@@ -117,6 +118,7 @@ int tongue(std::FILE* csv, bool quick) {
     std::fprintf(csv, "truth,noise_mm,superior_longitudinal,transverse,genioglossus,max_activation_error,"
                       "jaw_angle_deg,jaw_matrix_error,jaw_node_error_mm,iterations,stop,residual_mm,time_s,cpu_s\n");
   for (const tt::bench::TongueTruth& truth : tongueTruths()) {
+    if (quick && truth.jaw) continue;
     const std::vector<Eigen::Vector3d> y = tt::bench::tongueTruthLandmarks(scene, landmarks, truth);
     const char* label = truth.jaw ? "activations + jaw" : "activations";
     for (double noise : {0.0, 1e-4, 1e-3}) {
@@ -187,29 +189,19 @@ int printTongueSensitivity() {
   return 0;
 }
 
-int usage(const char* what) {
-  std::fprintf(stderr, "bench_fitting: %s (usage: bench_fitting [--only block|tongue] [--quick] "
-                       "[--out DIR] | --tongue-targets | --tongue-sensitivity)\n", what);
-  return 2;
-}
-
 int run(int argc, char** argv) {
-  std::string only, out;
-  bool quick = false;
-  for (int k = 1; k < argc; ++k) {
-    const std::string arg = argv[k];
-    if (arg == "--tongue-targets") return printTongueTargets();
-    if (arg == "--tongue-sensitivity") return printTongueSensitivity();
-    if (arg == "--quick") {
-      quick = true;
-    } else if ((arg == "--only" || arg == "--out") && k + 1 < argc) {
-      (arg == "--only" ? only : out) = argv[++k];
-    } else {
-      return usage(("unknown or incomplete option '" + arg + "'").c_str());
-    }
-  }
+  tt::tools::CommandLine options(
+      argc, argv,
+      "bench_fitting [--only block|tongue] [--quick] [--out DIR] | --tongue-targets | "
+      "--tongue-sensitivity");
+  if (options.flag("--tongue-targets")) return printTongueTargets();
+  if (options.flag("--tongue-sensitivity")) return printTongueSensitivity();
+  const bool quick = options.flag("--quick");
+  const std::string only = options.text("--only", "");
+  const std::string out = options.text("--out", "");
+  options.finish();
   if (!only.empty() && only != "block" && only != "tongue")
-    return usage(("--only expects block or tongue, got '" + only + "'").c_str());
+    options.fail("--only expects block or tongue, got '" + only + "'");
   const auto open = [&](const char* name) -> std::FILE* {
     if (out.empty()) return nullptr;
     std::filesystem::create_directories(out);

@@ -4,7 +4,7 @@
 // repeats), each path's time relative to the edge_length fast path, and beside it the maximum
 // relative difference of its forces against the fast path on one thread (the two-thread
 // forces are compared too); plus the stiffness assembly of the fast path.
-//   bench_forces [repeats=7]
+//   bench_forces [--quick] [--repeats N=7]   (--quick: the smaller grid, one repeat)
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -17,6 +17,7 @@
 
 #include <Eigen/Geometry>
 
+#include "common/command_line.h"
 #include "tissue_trainer/core/model/edge_length.h"
 #include "tissue_trainer/core/model/stvk_displacement.h"
 #include "tissue_trainer/core/model/tensor_mass.h"
@@ -152,10 +153,13 @@ void benchGrid(int cells, int repeats) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int repeats = argc > 1 ? std::max(1, std::atoi(argv[1])) : 7;
+  tools::CommandLine options(argc, argv, "bench_forces [--quick] [--repeats N]");
+  const bool quick = options.flag("--quick");
+  const int repeats = options.positiveInteger("--repeats", quick ? 1 : 7);
+  options.finish();
   std::printf("bench_forces: 1 and 2 threads, median of %d repeats; Mt/s/c = million tets per "
               "second per core\n", repeats);
   benchGrid(12, repeats);  // 10368 tets
-  benchGrid(26, repeats);  // 105456 tets
+  if (!quick) benchGrid(26, repeats);  // 105456 tets
   return 0;
 }

@@ -6,13 +6,14 @@
 // latencies (0 and half a simulation period); then nanoseconds per tick of the
 // full pipeline (extrapolator + safety filter + loop statistics), median of repeats.
 // The error columns are of the extrapolator output (before the safety filter).
-//   bench_haptics [repeats=9]
+//   bench_haptics [--quick] [--repeats N=9]   (--quick: one repeat)
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <vector>
 
+#include "common/command_line.h"
 #include "tissue_trainer/core/haptics/haptic_pipeline.h"
 #include "tissue_trainer/core/haptics/wall_probe.h"
 
@@ -135,7 +136,10 @@ void timing(int repeats) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int repeats = argc > 1 ? std::max(1, std::atoi(argv[1])) : 9;
+  tt::tools::CommandLine options(argc, argv, "bench_haptics [--quick] [--repeats N]");
+  const bool quick = options.flag("--quick");
+  const int repeats = options.positiveInteger("--repeats", quick ? 1 : 9);
+  options.finish();
   errorTable();
   timing(repeats);
   return 0;

@@ -17,8 +17,9 @@
 // for 10 steps). Also the
 // time of one factorisation of the system matrix at the start state, per backend, and of one
 // AMG set-up.
-//   bench_implicit_step [SIZES=3000,10000,50000,100000] [CSV|-] [ROWS]
-// SIZES: target tet counts; ROWS: the set-ups to run, as 1-based row numbers (default all).
+//   bench_implicit_step [--quick] [--sizes 3000,10000,50000,100000] [--csv FILE] [--rows K,...]
+// --sizes: target tet counts; --rows: the set-ups to run, as 1-based row numbers (default all);
+// --quick: 3000 tets, rows 6 and 14, 5 timed steps (a smoke run, not a measurement).
 // TT_BENCH_TRACE=1 prints every step (time, iterations, factors, contact points).
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -33,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "common/command_line.h"
 #include "tissue_trainer/core/contact/tissue_contact.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/mesh/mesh_io.h"
@@ -232,19 +234,25 @@ class Bench {
 }  // namespace
 
 int runAll(int argc, char** argv) {
+  tools::CommandLine options(argc, argv,
+                             "bench_implicit_step [--quick] [--sizes N,N,...] [--csv FILE] "
+                             "[--rows K,K,...]");
+  const bool quick = options.flag("--quick");
   std::vector<int> sizes;
-  std::stringstream list(argc > 1 ? argv[1] : "3000,10000,50000,100000");
-  for (std::string item; std::getline(list, item, ',');) {
+  for (const std::string& item :
+       options.list("--sizes", quick ? std::vector<std::string>{"3000"}
+                                     : std::vector<std::string>{"3000", "10000", "50000", "100000"})) {
     const int n = std::atoi(item.c_str());
-    if (n < 100) throw std::invalid_argument("SIZES: expected tet counts >= 100, got '" + item + "'");
+    if (n < 100) options.fail("--sizes expects tet counts >= 100, got '" + item + "'");
     sizes.push_back(n);
   }
-  const bool wantCsv = argc > 2 && std::string(argv[2]) != "-";
-  FILE* csv = wantCsv ? std::fopen(argv[2], "w") : nullptr;
-  if (wantCsv && !csv) {
-    std::fprintf(stderr, "bench_implicit_step: cannot write %s\n", argv[2]);
-    return 2;
-  }
+  const std::string csvPath = options.text("--csv", "");
+  const std::vector<std::string> rowList =
+      options.list("--rows", quick ? std::vector<std::string>{"6", "14"} : std::vector<std::string>{});
+  const int stepsOverride = quick ? 5 : 0;
+  options.finish();
+  FILE* csv = csvPath.empty() ? nullptr : std::fopen(csvPath.c_str(), "w");
+  if (!csvPath.empty() && !csv) options.fail("cannot write " + csvPath);
   if (csv)
     std::fprintf(csv, "tets,dofs,setup,preconditioner,backend,threads,tolerance,steps,step_ms_p50,"
                       "step_ms_p99,step_ms_max,contact_ms_p50,cg_iterations_p50,cg_iterations_max,"
@@ -273,15 +281,13 @@ int runAll(int argc, char** argv) {
       {"cholesky, psd", cholesky, cholmod, 2, 1e-3, 15, true},
       {"jacobi, psd", jacobi, cholmod, 1, 1e-4, 15, true},
   };
-  std::vector<char> wanted(setups.size(), argc <= 3);
-  if (argc > 3) {
-    std::stringstream rows(argv[3]);
-    for (std::string item; std::getline(rows, item, ',');) {
-      const int row = std::atoi(item.c_str());
-      if (row < 1 || row > static_cast<int>(setups.size()))
-        throw std::invalid_argument("ROWS: expected numbers in [1, " + std::to_string(setups.size()) + "], got '" + item + "'");
-      wanted[row - 1] = 1;
-    }
+  std::vector<char> wanted(setups.size(), rowList.empty());
+  for (const std::string& item : rowList) {
+    const int row = std::atoi(item.c_str());
+    if (row < 1 || row > static_cast<int>(setups.size()))
+      options.fail("--rows expects numbers in [1, " + std::to_string(setups.size()) + "], got '" +
+                   item + "'");
+    wanted[row - 1] = 1;
   }
   for (const int target : sizes) {
     int tets = 0;
@@ -291,7 +297,8 @@ int runAll(int argc, char** argv) {
                   target, kWork.c_str());
       continue;
     }
-    const int steps = target <= 10000 ? 60 : target <= 50000 ? 20 : 10;
+    const int steps =
+        stepsOverride > 0 ? stepsOverride : target <= 10000 ? 60 : target <= 50000 ? 20 : 10;
     Bench bench(sceneWithMesh(mesh), sceneWithMesh(mesh, true), steps);
     bench.prepare();
     CholeskyPreconditioner cholmodFactor(false, cholmod), simplicialFactor(false, simplicial);

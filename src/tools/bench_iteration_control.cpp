@@ -43,6 +43,7 @@
 #include <vector>
 
 #include "bench_support.h"
+#include "common/command_line.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/mesh/corrupt_elements.h"
@@ -400,25 +401,16 @@ void towardsInstability(const std::string& scenePath, const std::string& dir, bo
 
 int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
-  std::string scene = "config/scenes/muscle_twitch.yaml", out = "docs/report";
-  bool quick = false, twitchOnly = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    const bool hasValue = i + 1 < argc;
-    if (a == "--quick") quick = true;
-    else if (a == "--scene" && hasValue) scene = argv[++i];
-    else if (a == "--out" && hasValue) out = argv[++i];
-    else if (a == "--lower" && hasValue)
-      tt::lowerLimit = tt::bench::positiveInteger("bench_iteration_control", a, argv[++i]);
-    else if (a == "--upper" && hasValue)
-      tt::upperLimit = tt::bench::positiveInteger("bench_iteration_control", a, argv[++i]);
-    else if (a == "--twitch-only") twitchOnly = true;
-    else {
-      std::fprintf(stderr, "usage: bench_iteration_control [--scene FILE] [--out DIR] [--quick] "
-                           "[--twitch-only] [--lower N] [--upper N]\n");
-      return 2;
-    }
-  }
+  tt::tools::CommandLine options(argc, argv,
+                                 "bench_iteration_control [--scene FILE] [--out DIR] [--quick] "
+                                 "[--twitch-only] [--lower N] [--upper N]");
+  const std::string scene = options.text("--scene", "config/scenes/muscle_twitch.yaml");
+  const std::string out = options.text("--out", "docs/report");
+  const bool quick = options.flag("--quick");
+  const bool twitchOnly = options.flag("--twitch-only");
+  tt::lowerLimit = options.positiveInteger("--lower", tt::lowerLimit);
+  tt::upperLimit = options.positiveInteger("--upper", tt::upperLimit);
+  options.finish();
   if (tt::lowerLimit >= tt::upperLimit) {
     std::fprintf(stderr, "bench_iteration_control: --lower (%d) must be below --upper (%d)\n",
                  tt::lowerLimit, tt::upperLimit);

@@ -5,7 +5,8 @@
 // of 0.05 s: mean step h, Runge-Kutta steps, Jacobian evaluations, Newton iterations and LU
 // factorizations (averages over frames), the median wall time per frame, and the largest
 // position error against a tight-tolerance analytical-Jacobian run.
-//   bench_radau_table_e1 [tolerance=1e-5] [frames=20] [repeats=5]
+//   bench_radau_table_e1 [--quick] [--tolerance T=1e-5] [--frames N=20] [--repeats N=5]
+// (--quick: 2 frames, one repeat)
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -13,6 +14,7 @@
 #include <memory>
 #include <vector>
 
+#include "common/command_line.h"
 #include "tissue_trainer/core/integrate/radau_iia.h"
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/model/edge_length.h"
@@ -100,9 +102,14 @@ double maxError(const Run& run, const Run& reference) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const double tol = argc > 1 ? std::atof(argv[1]) : 1e-5;
-  const int frames = argc > 2 ? std::atoi(argv[2]) : 20;
-  const int repeats = argc > 3 ? std::atoi(argv[3]) : 5;
+  tt::tools::CommandLine options(
+      argc, argv,
+      "bench_radau_table_e1 [--quick] [--tolerance T=1e-5] [--frames N=20] [--repeats N=5]");
+  const bool quick = options.flag("--quick");
+  const double tol = options.positiveNumber("--tolerance", 1e-5);
+  const int frames = options.positiveInteger("--frames", quick ? 2 : 20);
+  const int repeats = options.positiveInteger("--repeats", quick ? 1 : 5);
+  options.finish();
   {
     auto probe = gridScene();
     std::printf("bench_radau_table_e1: %d nodes, %d tets, %zu fixed or driven DOFs, frame %.2f s,"

@@ -1,4 +1,4 @@
-// bench_scene_parts [SCENE.yaml] [--frames N]: what each part of a scene costs per frame, to
+// bench_scene_parts [--quick] [SCENE.yaml] [--frames N=300]: what each part of a scene costs per frame, to
 // measure what "the simulation builds only what the scene lists" saves. Copies of the scene
 // (each loaded from the file, so all start from the same state) advance frame by frame in
 // turn, the order of the copies reversed every other frame; each copy lacks one part or adds
@@ -20,7 +20,6 @@
 // differs. Exit 2 on bad input, 3 when a frame of the listed scene fails.
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -30,6 +29,7 @@
 #include <vector>
 
 #include "bench_support.h"
+#include "common/command_line.h"
 #include "tissue_trainer/core/contact/tissue_contact.h"
 #include "tissue_trainer/core/error.h"
 #include "tissue_trainer/core/integrate/stability_guard.h"
@@ -48,37 +48,14 @@ struct Options {
   int frames = kDefaultFrames;
 };
 
-[[noreturn]] void badInput(const std::string& message) {
-  std::fprintf(stderr, "%s: %s\n", kTool, message.c_str());
-  std::exit(2);
-}
-
-int positiveInteger(const std::string& option, const char* text) {
-  errno = 0;
-  char* end = nullptr;
-  const long v = std::strtol(text, &end, 10);
-  if (end == text || *end != '\0' || errno == ERANGE || v < 1 || v > 1000000)
-    badInput(option + " expects a positive integer (at most 1000000), got '" + text + "'");
-  return static_cast<int>(v);
-}
-
 Options parseOptions(int argc, char** argv) {
+  tt::tools::CommandLine command(argc, argv, "bench_scene_parts [--quick] [SCENE.yaml] [--frames N]");
   Options o;
-  bool haveScene = false;
-  for (int k = 1; k < argc; ++k) {
-    const std::string arg = argv[k];
-    if (arg == "--frames") {
-      if (k + 1 >= argc) badInput("--frames expects a value");
-      o.frames = positiveInteger(arg, argv[++k]);
-    } else if (arg.size() > 1 && arg[0] == '-') {
-      badInput("unknown option '" + arg + "' (usage: " + kTool + " [SCENE.yaml] [--frames N])");
-    } else if (haveScene) {
-      badInput("expected one scene file, got '" + o.scene + "' and '" + arg + "'");
-    } else {
-      o.scene = arg;
-      haveScene = true;
-    }
-  }
+  const bool quick = command.flag("--quick");
+  o.frames = command.positiveInteger("--frames", quick ? 10 : kDefaultFrames);
+  const std::vector<std::string> scene = command.positional(1);
+  if (!scene.empty()) o.scene = scene.front();
+  command.finish();
   return o;
 }
 
