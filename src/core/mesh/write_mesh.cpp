@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "tissue_trainer/core/mesh/mesh_io.h"
-#include "tissue_trainer/core/model/tet_geometry.h"
+#include "tissue_trainer/core/mesh/tet_geometry.h"
 #include "write_support.h"
 
 namespace tt {

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "tissue_trainer/core/model/tet_geometry.h"
+#include "tissue_trainer/core/mesh/tet_geometry.h"
 
 namespace tt {
 

@@ -39,8 +39,6 @@ class Integrator {
   void setStepDivisor(int divisor) { stepDivisor_ = divisor; }
 
  protected:
-  // A set step length as the integrator is to take it now (shortened by the divisor).
-  double currentStep(double setLength) const { return setLength / stepDivisor_; }
   int stepDivisor() const { return stepDivisor_; }
 
  private:

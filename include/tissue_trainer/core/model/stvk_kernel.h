@@ -13,7 +13,7 @@
 
 #include "tissue_trainer/core/mesh/mesh.h"
 #include "tissue_trainer/core/model/material.h"
-#include "tissue_trainer/core/model/tet_geometry.h"
+#include "tissue_trainer/core/mesh/tet_geometry.h"
 #include "tissue_trainer/core/model/tet_loops.h"
 #include "tissue_trainer/core/solve/sparse_pattern.h"
 

@@ -1,7 +1,7 @@
 #pragma once
-// Rest-configuration constants of a tetrahedron shared by the tet force models:
-// rest volume V0 = det(Dm)/6 and the gradients g_p = grad_X Lambda_p of the barycentric
-// coordinates. F = sum_p x_p g_p^T.
+// Rest-configuration constants of a tetrahedron, shared by the tet force models and the mesh
+// writers: rest volume V0 = det(Dm)/6 and the gradients g_p = grad_X Lambda_p of the
+// barycentric coordinates. F = sum_p x_p g_p^T.
 #include <Eigen/Core>
 #include <Eigen/LU>
 
