@@ -50,15 +50,21 @@ def main(folder):
         for g in graph:
             body.append([g["label"].replace("_", " "), g["step_rate_hz"], g["step_wall_p50_ms"],
                          g["step_wall_p99_ms"], g["step_wall_max_ms"], g["real_time_factor_p50"],
-                         f"{g['steps_behind']} / {g['steps']}", g["peak_contact_force_n"],
+                         f"{g['steps_behind']} / {g['steps']}", g.get("unstable_steps", ""),
+                         g.get("first_status_s", ""), g["peak_contact_force_n"],
+                         g.get("peak_displacement_mm", ""), g.get("tool_lag_max_mm", ""),
                          g["bridge_period_p99_us"], g["bridge_period_max_us"],
                          g["wrench_gap_max_us"]])
         print(table(["mesh", "steps/s", "step p50 (ms)", "step p99 (ms)", "step max (ms)",
-                     "real-time factor", "behind / steps", "peak contact (N)",
+                     "real-time factor", "behind / steps", "failed steps", "first status (s)",
+                     "peak contact (N)", "peak tissue displacement (mm)", "tool lag max (mm)",
                      "bridge period p99 (us)", "bridge period max (us)",
                      "wrench gap max (us)"], body))
         print("\nA step is contact detection + one integrator advance + the surface message; "
-              "its wall time comes from /tissue/status.\n")
+              "its wall time comes from /tissue/status. Peak tissue displacement: the largest "
+              "node displacement the status reported (the press's depth; the liver also sags "
+              "under gravity after its release at the start); tool lag: the contact's tool "
+              "proxy behind the instrument tip.\n")
     surface = rows(os.path.join(folder, "surface.csv"))
     if surface:
         print("## Topic transport of a TissueSurface (on /bench/surface, 100 Hz, between two processes)\n")

@@ -378,6 +378,7 @@ class GraphProbe {
     r.add("first_status_s", firstStatus_ - started_, "%.2f");
     r.add("unstable_steps", double(unstable_), "%.0f");
     r.add("peak_contact_force_n", peakForce_, "%.3f");
+    r.add("peak_displacement_mm", 1e3 * peakDisplacement_, "%.2f");
     contacts_.addTo(r, "contact");
     wrenches_.addTo(r, "wrench");
     bridge_.addTo(r);
@@ -399,6 +400,7 @@ class GraphProbe {
     if (s->behind_schedule) ++behind_;
     if (!s->stable) ++unstable_;
     peakForce_ = std::max(peakForce_, s->contact_force);
+    peakDisplacement_ = std::max(peakDisplacement_, s->max_displacement);
   }
   void onContact(const tissue_trainer::ContactModel::ConstPtr&) {
     const double now = monotonicSeconds();
@@ -415,7 +417,7 @@ class GraphProbe {
   std::mutex m_;
   bool measuring_ = false;
   std::size_t tissueCount_ = 0, behind_ = 0, unstable_ = 0;
-  double peakForce_ = 0.0;
+  double peakForce_ = 0.0, peakDisplacement_ = 0.0;  // the press's force and depth in the tissue
   double started_ = 0.0, firstStatus_ = 0.0, firstBehind_ = 0.0, lastBehind_ = 0.0, maxToolLag_ = 0.0;
   std::vector<double> stepWall_, stepTime_, rtf_;
   ArrivalLog contacts_, wrenches_;
