@@ -128,7 +128,8 @@ void measure(int nx, int ny, int nz, int repeats) {
 
 int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
-  tools::CommandLine options(argc, argv, "bench_fd_jacobian [--quick] [--repeats N] [--sizes 1k,10k]");
+  tools::CommandLine options(argc, argv,
+                            "bench_fd_jacobian [--quick] [--repeats N] [--sizes 1k,10k]");
   const bool quick = options.flag("--quick");
   const int repeats = options.positiveInteger("--repeats", quick ? 1 : 5);
   const std::vector<std::string> sizes = options.list(

@@ -238,17 +238,16 @@ int runAll(int argc, char** argv) {
                              "bench_implicit_step [--quick] [--sizes N,N,...] [--csv FILE] "
                              "[--rows K,K,...]");
   const bool quick = options.flag("--quick");
+  using Names = std::vector<std::string>;
   std::vector<int> sizes;
   for (const std::string& item :
-       options.list("--sizes", quick ? std::vector<std::string>{"3000"}
-                                     : std::vector<std::string>{"3000", "10000", "50000", "100000"})) {
+       options.list("--sizes", quick ? Names{"3000"} : Names{"3000", "10000", "50000", "100000"})) {
     const int n = std::atoi(item.c_str());
     if (n < 100) options.fail("--sizes expects tet counts >= 100, got '" + item + "'");
     sizes.push_back(n);
   }
   const std::string csvPath = options.text("--csv", "");
-  const std::vector<std::string> rowList =
-      options.list("--rows", quick ? std::vector<std::string>{"6", "14"} : std::vector<std::string>{});
+  const Names rowList = options.list("--rows", quick ? Names{"6", "14"} : Names{});
   const int stepsOverride = quick ? 5 : 0;
   options.finish();
   FILE* csv = csvPath.empty() ? nullptr : std::fopen(csvPath.c_str(), "w");

@@ -1,5 +1,5 @@
-// bench_scene_parts [--quick] [SCENE.yaml] [--frames N=300]: what each part of a scene costs per frame, to
-// measure what "the simulation builds only what the scene lists" saves. Copies of the scene
+// bench_scene_parts [--quick] [SCENE.yaml] [--frames N=300] (--quick: 10 frames): what each
+// part of a scene costs per frame, to measure what "the simulation builds only what the scene lists" saves. Copies of the scene
 // (each loaded from the file, so all start from the same state) advance frame by frame in
 // turn, the order of the copies reversed every other frame; each copy lacks one part or adds
 // one per-frame task of the simulation node:
@@ -49,7 +49,8 @@ struct Options {
 };
 
 Options parseOptions(int argc, char** argv) {
-  tt::tools::CommandLine command(argc, argv, "bench_scene_parts [--quick] [SCENE.yaml] [--frames N]");
+  tt::tools::CommandLine command(argc, argv,
+                                 "bench_scene_parts [--quick] [SCENE.yaml] [--frames N]");
   Options o;
   const bool quick = command.flag("--quick");
   o.frames = command.positiveInteger("--frames", quick ? 10 : kDefaultFrames);
