@@ -1,7 +1,7 @@
 // bench_scene_parts [--quick] [SCENE.yaml] [--frames N=300] (--quick: 10 frames): what each
-// part of a scene costs per frame, to measure what "the simulation builds only what the scene lists" saves. Copies of the scene
-// (each loaded from the file, so all start from the same state) advance frame by frame in
-// turn, the order of the copies reversed every other frame; each copy lacks one part or adds
+// part of a scene costs per frame, to measure what "the simulation builds only what the scene
+// lists" saves. Copies of the scene (each loaded from the file, so all start from the same
+// state) advance frame by frame in turn, the order of the copies reversed every other frame; each copy lacks one part or adds
 // one per-frame task of the simulation node:
 //   frame            the scene as listed: its integrator's advance (with the stability guard
 //                    unless the scene turns it off)
