@@ -148,10 +148,15 @@ bool EquilibriumSolver::lineSearch(const System& system, Eigen::VectorXd& x, dou
     bool accepted;
     if (hasEnergy_) {
       if (!std::isfinite(energy)) continue;
-      // Energy differences below round-off: judged by the residual.
+      // An energy change within the energy's round-off says nothing about the step. Near the
+      // solution the full Newton step's change falls there, and that step is judged by the
+      // residual. A shorter step falls there when the energy refused the longer ones (at a
+      // clamped element the force is not the energy's gradient): its residual hardly moves,
+      // and taking it as progress would keep Newton creeping and the recovery from starting.
       const bool roundOff = std::abs(energy - energy0) <=
                             1e-12 * std::max(std::abs(energy0), std::abs(energy));
-      accepted = energy <= energy0 - params.armijo * step * slope || (roundOff && r < residual);
+      accepted = roundOff ? k == 0 && r <= (1.0 - params.armijo) * residual
+                          : energy <= energy0 - params.armijo * step * slope;
     } else {
       accepted = r <= (1.0 - params.armijo * step) * residual;
     }
