@@ -413,24 +413,40 @@ TEST(TeranMusclePsd, DiagonalBlocksTangentIsPositiveSemiDefinite) {
               "after / largest |eigenvalue| %.2g\n", indefinite, worst);
 }
 
+// diagonal_blocks projects the isotropic part and the fibre part separately, so it leaves the
+// tangent unchanged where both parts are PSD (the whole tangent then is). States stretched a
+// little in every direction, the passive fibre; the count of states whose whole tangent is PSD
+// but one part is not (there the method does change it) is printed.
 TEST(TeranMusclePsd, DiagonalBlocksLeavesAPsdTangentUnchanged) {
   std::mt19937 rng(107);
-  int compared = 0;
+  int compared = 0, partIndefinite = 0;
+  double worst = 0.0;
   for (int trial = 0; trial < 300; ++trial) {
     const bool deviatoric = trial % 2;
-    // Stretched a little in every direction, the passive fibre (tau' >= 0).
     const auto p = sampleMuscle(rng, 0.0, deviatoric);
     const Eigen::Matrix3d F = gradientWithSingularValues(rng, 1.0, 1.15);
+    TeranMuscleLaw::Parameters isotropic = p, fibre = p;
+    isotropic.k.sigmaMax = 0.0;
+    fibre.k.A = fibre.k.B = fibre.k.K = 0.0;
     const Matrix9d A = lawTangent<TeranMuscleLaw>(p, F);
     if (smallestRelativeEigenvalue(A) < 0.0) continue;
+    const Matrix9d Afibre = lawTangent<TeranMuscleLaw>(fibre, F);
+    const bool fibreIsZero = Afibre.cwiseAbs().maxCoeff() == 0.0;
+    if (smallestRelativeEigenvalue(lawTangent<TeranMuscleLaw>(isotropic, F)) < -1e-14 ||
+        (!fibreIsZero && smallestRelativeEigenvalue(Afibre) < -1e-14)) {
+      ++partIndefinite;
+      continue;
+    }
     ++compared;
     const Matrix9d projected = projectedTangent(p, F, diagonalBlocks(kThreshold));
-    EXPECT_LT(relative(projected, 0.5 * (A + A.transpose())), 1e-10)
-        << "deviatoric " << deviatoric;
+    const double e = relative(projected, 0.5 * (A + A.transpose()));
+    worst = std::max(worst, e);
+    EXPECT_LT(e, 1e-10) << "deviatoric " << deviatoric;
   }
-  EXPECT_GT(compared, 200);
-  std::printf("diagonal_blocks equals a PSD tangent: %d of 300 small stretches compared\n",
-              compared);
+  EXPECT_GT(compared, 100);
+  std::printf("diagonal_blocks equals a PSD tangent with PSD parts: %d of 300 small stretches "
+              "compared, worst %.2g; %d had a PSD tangent with an indefinite part\n",
+              compared, worst, partIndefinite);
 }
 
 // The two methods differ only where the tangent is indefinite; report by how much on
@@ -464,6 +480,7 @@ TEST(TeranMusclePsd, MethodsDifferOnlyWhereTheTangentIsIndefinite) {
 TEST(TeranMusclePaperForms, FiniteVolumeForcesAreTheElementForces) {
   std::mt19937 rng(109);
   double worst = 0.0, worstBm = 0.0;
+  int compared = 0;
   for (int trial = 0; trial < 100; ++trial) {
     Mesh mesh = testutil::randomTet(rng);
     const auto p = TeranMuscleLaw::parameters(sampleMuscle(rng, 0.5, trial % 2).k,
@@ -476,7 +493,10 @@ TEST(TeranMusclePaperForms, FiniteVolumeForcesAreTheElementForces) {
       Dm.col(c) = mesh.rest.col(c + 1) - mesh.rest.col(0);
       Ds.col(c) = x.segment<3>(3 * (c + 1)) - x.segment<3>(0);
     }
-    const Eigen::Matrix3d P = TeranMuscleLaw::stress(p, Ds * Dm.inverse());
+    const Eigen::Matrix3d F = Ds * Dm.inverse();
+    if (!(F.determinant() > 0.0)) continue;  // the law (no inversion handling) needs J > 0
+    ++compared;
+    const Eigen::Matrix3d P = TeranMuscleLaw::stress(p, F);
     // Outward area-weighted normals of the rest faces; face k is opposite node k.
     Eigen::Matrix<double, 3, 4> AN;
     const Eigen::Vector3d centroid = mesh.rest.rowwise().mean();
@@ -504,8 +524,9 @@ TEST(TeranMusclePaperForms, FiniteVolumeForcesAreTheElementForces) {
     EXPECT_LT(e, 1e-11);
   }
   EXPECT_LT(worstBm, 1e-12);
-  std::printf("Sec. 4.4 forces vs the element forces (100 tets): worst %.2g; B_m vs -V Dm^-T: "
-              "worst %.2g\n", worst, worstBm);
+  EXPECT_GT(compared, 90);
+  std::printf("Sec. 4.4 forces vs the element forces (%d tets): worst %.2g; B_m vs -V Dm^-T: "
+              "worst %.2g\n", compared, worst, worstBm);
 }
 
 }  // namespace
