@@ -3,8 +3,11 @@
 // one and two threads (tt::setThreadCount): million tets per second per core (median of
 // repeats), each path's time relative to the edge_length fast path, and beside it the maximum
 // relative difference of its forces against the fast path on one thread (the two-thread
-// forces are compared too); plus the stiffness assembly of the fast path.
-//   bench_forces [--quick] [--repeats N=7]   (--quick: the smaller grid, one repeat)
+// forces are compared too); plus the stiffness assembly of the fast path. Then the muscle law's
+// two PSD projections (psd_method eigen and diagonal_blocks) per tet tangent on random
+// gradients, half of them inverted, and in the stiffness assembly of a compressed grid.
+//   bench_forces [--quick] [--repeats N=7] [--psd-only]
+// (--quick: the smaller grid and one repeat; --psd-only: only the PSD projections)
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -15,10 +18,14 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include "common/command_line.h"
+#include "tissue_trainer/core/material/law_point.h"
+#include "tissue_trainer/core/material/teran_muscle.h"
 #include "tissue_trainer/core/model/edge_length.h"
+#include "tissue_trainer/core/model/hyperelastic.h"
 #include "tissue_trainer/core/model/stvk_displacement.h"
 #include "tissue_trainer/core/model/tensor_mass.h"
 #include "tissue_trainer/core/parallel.h"
@@ -150,16 +157,140 @@ void benchGrid(int cells, int repeats) {
               pattern.numTets());
 }
 
+Eigen::Matrix3d frameOfFibre(const Eigen::Vector3d& fibre) {
+  Eigen::Matrix3d R;
+  R.col(0) = fibre.normalized();
+  R.col(1) = R.col(0).unitOrthogonal();
+  R.col(2) = R.col(0).cross(R.col(1));
+  return R;
+}
+
+Eigen::Matrix3d randomRotation(std::mt19937& rng) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  const Eigen::Quaterniond q(n(rng), n(rng), n(rng), n(rng));
+  return q.normalized().toRotationMatrix();
+}
+
+volatile double benchSink = 0.0;
+
+double smallestRelativeEigenvalue(const Matrix9d& A) {
+  const Eigen::VectorXd l = Eigen::SelfAdjointEigenSolver<Matrix9d>(A).eigenvalues();
+  return l.minCoeff() / l.cwiseAbs().maxCoeff();
+}
+
+// The muscle law's 9 x 9 projected tangent per quadrature point (one per tet) under each
+// psd_method: n gradients Q diag(s) R with s in [0.3, 1.6], the third negated for half of
+// them (inverted), activation 0.9, inversion threshold 0.25.
+void benchMusclePsdPoints(bool deviatoric, int repeats) {
+  constexpr int n = 4000;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.3, 1.6);
+  std::vector<Eigen::Matrix3d> gradients;
+  for (int i = 0; i < n; ++i) {
+    Eigen::Vector3d s(u(rng), u(rng), u(rng));
+    if (i % 2) s(2) = -s(2);
+    gradients.push_back(randomRotation(rng) * s.asDiagonal() * randomRotation(rng));
+  }
+  TeranMuscleLaw::Constants k;
+  k.activation = 0.9;
+  k.deviatoricStretch = deviatoric;
+  const auto p = TeranMuscleLaw::parameters(k, frameOfFibre(Eigen::Vector3d(1, 2, 2)));
+  LawOptions plain, eigen, blocks;
+  plain.inversionThreshold = eigen.inversionThreshold = blocks.inversionThreshold = 0.25;
+  eigen.psdProjection = blocks.psdProjection = true;
+  blocks.psdMethod = PsdMethod::kDiagonalBlocks;
+  double sink = 0.0;
+  const auto timePer = [&](const LawOptions& o) {
+    return medianSeconds([&] {
+      for (const Eigen::Matrix3d& F : gradients) {
+        LawPoint point = lawPoint(F, o);
+        sink += pointTangent<TeranMuscleLaw>(p, point, o)(0, 0);
+      }
+    }, repeats) / n;
+  };
+  const double tPlain = timePer(plain), tEigen = timePer(eigen), tBlocks = timePer(blocks);
+  // Beside the times: how far apart the two projections are, and their smallest eigenvalues.
+  std::vector<double> diff[2];
+  double lowest[2] = {1.0, 1.0};
+  for (int i = 0; i < n; ++i) {
+    LawPoint a = lawPoint(gradients[i], eigen), b = lawPoint(gradients[i], blocks);
+    const Matrix9d Ae = pointTangent<TeranMuscleLaw>(p, a, eigen);
+    const Matrix9d Ab = pointTangent<TeranMuscleLaw>(p, b, blocks);
+    diff[i % 2].push_back((Ab - Ae).norm() / Ae.norm());
+    lowest[0] = std::min(lowest[0], smallestRelativeEigenvalue(Ae));
+    lowest[1] = std::min(lowest[1], smallestRelativeEigenvalue(0.5 * (Ab + Ab.transpose())));
+  }
+  const auto median = [](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+  };
+  const auto largest = [](const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); };
+  std::printf("\nteran_muscle tangent per point, %s fibre stretch, activation 0.9, threshold 0.25 "
+              "(%d gradients, half inverted; one thread, median of %d repeats)\n",
+              deviatoric ? "deviatoric" : "non-deviatoric", n, repeats);
+  std::printf("  %-28s %9.2f us\n", "unprojected tangent", 1e6 * tPlain);
+  std::printf("  %-28s %9.2f us   smallest eigenvalue / largest |eigenvalue| %.1e\n",
+              "psd_method: eigen", 1e6 * tEigen, lowest[0]);
+  std::printf("  %-28s %9.2f us   smallest eigenvalue / largest |eigenvalue| %.1e\n",
+              "psd_method: diagonal_blocks", 1e6 * tBlocks, lowest[1]);
+  std::printf("  |A_blocks - A_eigen|_F / |A_eigen|_F: median %.3g, largest %.3g (not inverted); "
+              "median %.3g, largest %.3g (inverted)\n", median(diff[0]), largest(diff[0]),
+              median(diff[1]), largest(diff[1]));
+  benchSink = sink;  // keeps the timed tangents from being optimised away
+}
+
+// The stiffness assembly of a 12^3-cell grid (10368 tets) compressed 30% across the fibre and
+// stretched 20% along it, with jitter, under each psd_method (one thread).
+void benchMusclePsdAssembly(int repeats) {
+  const double h = 0.01;
+  Mesh mesh = boxGrid6(12, 12, 12, h);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.15 * h);
+  const Eigen::Matrix3d F = Eigen::Vector3d(1.2, 0.7, 0.7).asDiagonal();
+  Eigen::VectorXd x(3 * mesh.numNodes());
+  for (int i = 0; i < mesh.numNodes(); ++i)
+    x.segment<3>(3 * i) = F * mesh.rest.col(i) + Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+  TeranMuscleLaw::Constants k;
+  k.activation = 0.9;
+  k.deviatoricStretch = false;
+  SparsePattern pattern(mesh.numNodes(), mesh.tets);
+  setThreadCount(1);
+  std::printf("\nteran_muscle stiffness assembly, %d tets (non-deviatoric, activation 0.9, "
+              "threshold 0.25, compressed 0.7 across, 1.2 along the fibre, jitter 0.15 h; one "
+              "thread)\n", mesh.numTets());
+  for (PsdMethod method : {PsdMethod::kEigen, PsdMethod::kDiagonalBlocks}) {
+    LawOptions o;
+    o.inversionThreshold = 0.25;
+    o.psdProjection = true;
+    o.psdMethod = method;
+    const HyperelasticModel<TeranMuscleLaw> model(mesh, {k}, o);
+    SparseMatrix K = pattern.zeroMatrix();
+    const double t = medianSeconds([&] {
+      K.coeffs().setZero();
+      model.addStiffness(x, 1.0, pattern, K);
+    }, repeats);
+    std::printf("  %-28s %9.2f ms  %6.2f us per tet\n",
+                method == PsdMethod::kEigen ? "psd_method: eigen" : "psd_method: diagonal_blocks",
+                1e3 * t, 1e6 * t / mesh.numTets());
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  tools::CommandLine options(argc, argv, "bench_forces [--quick] [--repeats N]");
+  tools::CommandLine options(argc, argv, "bench_forces [--quick] [--repeats N] [--psd-only]");
   const bool quick = options.flag("--quick");
+  const bool psdOnly = options.flag("--psd-only");
   const int repeats = options.positiveInteger("--repeats", quick ? 1 : 7);
   options.finish();
   std::printf("bench_forces: 1 and 2 threads, median of %d repeats; Mt/s/c = million tets per "
               "second per core\n", repeats);
-  benchGrid(12, repeats);  // 10368 tets
-  if (!quick) benchGrid(26, repeats);  // 105456 tets
+  if (!psdOnly) {
+    benchGrid(12, repeats);              // 10368 tets
+    if (!quick) benchGrid(26, repeats);  // 105456 tets
+  }
+  benchMusclePsdPoints(false, repeats);
+  benchMusclePsdPoints(true, repeats);
+  benchMusclePsdAssembly(repeats);
   return 0;
 }

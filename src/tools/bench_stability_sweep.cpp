@@ -1,10 +1,10 @@
 // Numerical stability of every integrator x force model on stiff and extreme tissue.
 //
 //   bench_stability_sweep [--quick] [--out DIR] [--integrators a,b] [--models a,b]
-//                         [--grid-only | --extremes-only]
+//                         [--grid-only | --extremes-only [--cases a,b]]
 // (--integrators and --models restrict the grid, not the explicit limit and the extreme cases
 // below; --grid-only skips those two; --extremes-only runs the extreme cases alone, of the
-// integrators and models named.)
+// integrators, models and cases named.)
 //
 // 1. The grid: a 2 cm block (4 x 4 x 4 nodes, 162 tets) clamped at its base, released from a
 //    10 % shear (u_x = 0.1 z), mass damping 1/s, no gravity; Young's modulus 1 kPa .. 1 GPa,
@@ -518,11 +518,12 @@ std::vector<Case> extremeCases() {
   return cases;
 }
 
-// The extreme cases for every stepper and model, or those of `onlyIntegrators` and
-// `onlyModels` when given (empty: all).
+// The extreme cases for every stepper and model, or those of `onlyIntegrators`,
+// `onlyModels` and `onlyCases` when given (empty: all).
 void sweepExtremes(bool quick, const std::string& path,
                    const std::vector<std::string>& onlyIntegrators,
-                   const std::vector<std::string>& onlyModels) {
+                   const std::vector<std::string>& onlyModels,
+                   const std::vector<std::string>& onlyCases) {
   std::ofstream csv = openCsv(path);
   csv << "case,integrator,model,step,outcome,energy_growth,inverted_max,guard_recoveries,"
          "guard_halvings,guard_failures,wall_seconds,failure\n";
@@ -547,10 +548,14 @@ void sweepExtremes(bool quick, const std::string& path,
   steppers.erase(std::remove_if(steppers.begin(), steppers.end(),
                                 [&](const auto& st) { return !bench::selected(onlyIntegrators, st.first); }),
                  steppers.end());
-  for (const Case& c : extremeCases())
+  std::vector<Case> cases = extremeCases();
+  std::vector<std::string> caseNames;
+  for (const Case& c : cases) caseNames.push_back(c.name);
+  bench::requireKnown("bench_stability_sweep", "case", onlyCases, caseNames);
+  for (const Case& c : cases)
     for (const auto& [integrator, h] : steppers)
       for (const std::string& model : models) {
-        if (!runsPair(integrator, model) ||
+        if (!bench::selected(onlyCases, c.name) || !runsPair(integrator, model) ||
             (integrator == "quasistatic" && c.name == "impact_20m_per_s") ||
             (quick && muscle_bench::isMuscleModel(model) && integrator != "quasistatic"))
           continue;
@@ -586,7 +591,7 @@ void sweepExtremes(bool quick, const std::string& path,
 int main(int argc, char** argv) {
   bool quick = false, gridOnly = false, extremesOnly = false;
   std::string out = ".";
-  std::vector<std::string> integrators, models;  // empty: those of the grid
+  std::vector<std::string> integrators, models, cases;  // empty: those of the grid
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool hasValue = i + 1 < argc;
@@ -596,11 +601,17 @@ int main(int argc, char** argv) {
     else if (a == "--out" && hasValue) out = argv[++i];
     else if (a == "--integrators" && hasValue) integrators = tt::bench::splitList(argv[++i]);
     else if (a == "--models" && hasValue) models = tt::bench::splitList(argv[++i]);
+    else if (a == "--cases" && hasValue) cases = tt::bench::splitList(argv[++i]);
     else {
       std::fprintf(stderr, "usage: bench_stability_sweep [--quick] [--out DIR] "
-                           "[--integrators a,b] [--models a,b] [--grid-only | --extremes-only]\n");
+                           "[--integrators a,b] [--models a,b] [--grid-only | --extremes-only "
+                           "[--cases a,b]]\n");
       return 2;
     }
+  }
+  if (!cases.empty() && !extremesOnly) {
+    std::fprintf(stderr, "bench_stability_sweep: --cases needs --extremes-only\n");
+    return 2;
   }
   std::error_code error;
   std::filesystem::create_directories(out, error);
@@ -615,7 +626,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "bench_stability_sweep: --grid-only and --extremes-only exclude each other\n");
       return 2;
     }
-    tt::sweepExtremes(quick, out + "/extreme_cases.csv", integrators, models);
+    tt::sweepExtremes(quick, out + "/extreme_cases.csv", integrators, models, cases);
     std::printf("wrote %s/extreme_cases.csv in %.0f s (CPU %.0f s)\n", out.c_str(),
                 tt::bench::wallSeconds() - wall0, tt::bench::cpuSeconds() - cpu0);
     return 0;
@@ -629,7 +640,7 @@ int main(int argc, char** argv) {
     std::filesystem::remove(out + "/extreme_cases.csv", error);
   } else {
     tt::sweepCriticalStep(g, quick, out + "/critical_step.csv");
-    tt::sweepExtremes(quick, out + "/extreme_cases.csv", {}, {});
+    tt::sweepExtremes(quick, out + "/extreme_cases.csv", {}, {}, {});
   }
   std::printf("wrote %s/stability_sweep.csv%s in %.0f s (CPU %.0f s)\n", out.c_str(),
               gridOnly ? "" : ", critical_step.csv and extreme_cases.csv",

@@ -60,7 +60,7 @@ const char* const kUsage =
     "  tissue_cli forces --mesh MESH --deformed POSITIONS --model teran_muscle --mooney-rivlin A B\n"
     "                    --bulk K --peak-stress SIGMA_MAX --activation ALPHA --fiber X Y Z\n"
     "                    --fiber-stretch deviatoric|nondeviatoric [--inversion-threshold EPS]\n"
-    "                    [--psd] [--stiffness-times DIR]\n"
+    "                    [--psd [--psd-method eigen|diagonal_blocks]] [--stiffness-times DIR]\n"
     "  tissue_cli forces --scene SCENE.yaml --deformed POSITIONS [--stiffness-times DIR]\n"
     "  tissue_cli stretch SCENE.yaml --axis x|y|z --max-strain S --steps N [--out FILE.csv]\n"
     "  tissue_cli shear SCENE.yaml --plane-normal x|y|z --direction x|y|z --max-shear G\n"
@@ -350,7 +350,8 @@ int forcesOfScene(const Arguments& args) {
 
 // The flags of the muscle law; the other flag-form models take none of them.
 const char* const kMuscleFlags[] = {"mooney-rivlin", "bulk", "peak-stress", "activation",
-                                    "fiber-stretch", "inversion-threshold", "psd"};
+                                    "fiber-stretch", "inversion-threshold", "psd",
+                                    "psd-method"};
 
 double nonNegativeFlag(const Arguments& args, const std::string& name, size_t index = 0) {
   const double v = args.number(name, index);
@@ -387,6 +388,13 @@ int forcesOfMuscle(const Arguments& args, tt::Mesh& mesh) {
                        args.text("inversion-threshold") + "'");
   }
   options.psdProjection = args.has("psd");
+  if (args.has("psd-method")) {
+    const std::string& method = args.text("psd-method");
+    if (!options.psdProjection) throw UsageError("--psd-method applies with --psd only");
+    if (method != "eigen" && method != "diagonal_blocks")
+      throw UsageError("--psd-method expects eigen or diagonal_blocks, got '" + method + "'");
+    if (method == "diagonal_blocks") options.psdMethod = tt::PsdMethod::kDiagonalBlocks;
+  }
   std::unique_ptr<tt::ForceModel> model;
   try {
     model = std::make_unique<tt::HyperelasticModel<tt::TeranMuscleLaw>>(
@@ -687,7 +695,8 @@ int main(int argc, char** argv) {
                                {"mu", 1}, {"lambda-l", 1}, {"mu-l", 1}, {"fiber", 3},
                                {"scene", 1}, {"stiffness-times", 1}, {"mooney-rivlin", 2},
                                {"bulk", 1}, {"peak-stress", 1}, {"activation", 1},
-                               {"fiber-stretch", 1}, {"inversion-threshold", 1}, {"psd", 0}}));
+                               {"fiber-stretch", 1}, {"inversion-threshold", 1}, {"psd", 0},
+                               {"psd-method", 1}}));
     if (command == "fit")
       return fit(Arguments(argc, argv, 2,
                            {{"targets", 1}, {"out", 1}, {"max-iterations", 1}, {"tolerance", 1},

@@ -150,7 +150,7 @@ TEST(MuscleInversion, QuasistaticUnfoldsAHalfInvertedBlock) {
   ASSERT_GT(inverted, 0);
   ASSERT_LT(inverted, s->mesh.numTets());
   {
-    // Newton alone takes ever shorter steps there and does not converge.
+    // Newton alone does not converge there: its line search finds no decrease.
     auto newton = flattenedBlock();
     newton->state.x = s->state.x;
     EquilibriumParams off;

@@ -248,6 +248,33 @@ TYPED_TEST(LawConformance, ProjectedTangentHasNoNegativeEigenvalue) {
   EXPECT_GT(indefinite, 0) << Law::kName << ": no sample made the tangent indefinite";
 }
 
+// psd_method: diagonal_blocks where a law has it (isotropic laws, teran_muscle): PSD at the
+// same large and inverted states; for an isotropic law it is the eigenvalue clamp itself.
+TYPED_TEST(LawConformance, DiagonalBlocksProjectionHasNoNegativeEigenvalue) {
+  using Law = TypeParam;
+  if (!supportsPsdMethod<Law>(PsdMethod::kDiagonalBlocks))
+    GTEST_SKIP() << Law::kName << " has no diagonal-blocks projection (refused in scenes)";
+  std::mt19937 rng(16);
+  LawOptions blocks, eigen;
+  blocks.psdProjection = eigen.psdProjection = true;
+  blocks.inversionThreshold = eigen.inversionThreshold = 0.05;
+  blocks.psdMethod = PsdMethod::kDiagonalBlocks;
+  for (int trial = 0; trial < 50; ++trial) {
+    const auto p = this->params(rng);
+    const Eigen::Matrix3d F = sampleGradient<Law>(rng, p, 0.6);
+    LawPoint point = lawPoint(F, blocks);
+    const Matrix9d projected = pointTangent<Law>(p, point, blocks);
+    const Eigen::VectorXd lambda =
+        Eigen::SelfAdjointEigenSolver<Matrix9d>(0.5 * (projected + projected.transpose()))
+            .eigenvalues();
+    EXPECT_GE(lambda.minCoeff(), -1e-10 * lambda.cwiseAbs().maxCoeff()) << Law::kName;
+    if (Law::kIsotropic) {
+      LawPoint other = lawPoint(F, eigen);
+      EXPECT_LT(relative(projected, pointTangent<Law>(p, other, eigen)), 1e-12) << Law::kName;
+    }
+  }
+}
+
 TEST(RotationSvd, RotationsWithTheSignOnTheSmallestSingularValue) {
   std::mt19937 rng(16);
   std::normal_distribution<double> n(0.0, 1.0);

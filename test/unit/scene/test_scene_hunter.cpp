@@ -189,6 +189,10 @@ TEST(HunterScene, MalformedVirtualHexahedronEntriesNameFileLineAndKey) {
        "virtual_hexahedron provides none"},
       {"bad threshold", with("inversion_threshold: 1.5"), 15,
        "force_models[0].inversion_threshold: expected a threshold in [0, 1)"},
+      {"diagonal-blocks projection of a law without one",
+       with("psd_projection: true\n    psd_method: diagonal_blocks"), 13,
+       "force_models[0]: psd_method: diagonal_blocks needs law teran_muscle or an isotropic "
+       "law, not hunter (use psd_method: eigen)"},
   };
   testutil::expectEachSceneFailsClearly(cases, "bad_vh.yaml");
 }

@@ -8,6 +8,7 @@
 
 #include "scene_test_util.h"
 #include "tissue_trainer/core/material/teran_muscle.h"
+#include "tissue_trainer/core/model/hyperelastic.h"
 #include "tissue_trainer/core/scene/scene.h"
 
 namespace tt {
@@ -79,6 +80,66 @@ TEST(TeranMuscleScene, EachMalformedEntryNamesFileLineAndKey) {
        "materials[0].teran_muscle.kappa: unknown key 'kappa'"},
   };
   testutil::expectEachSceneFailsClearly(cases, "bad_muscle.yaml");
+}
+
+// psd_method picks the projection of the entry's model: the default is eigen; diagonal_blocks
+// gives the products of a model built with PsdMethod::kDiagonalBlocks, which differ from the
+// eigenvalue clamp's where the tangent is indefinite.
+TEST(TeranMuscleScene, PsdMethodReachesTheModel) {
+  const auto withKeys = [](const std::string& keys) {
+    return replaced(kMuscleScene, "    law: teran_muscle\n", "    law: teran_muscle\n" + keys);
+  };
+  const Scene byDefault = loadScene(writeScene("psd_default.yaml", withKeys("    psd_projection: true\n")));
+  const Scene eigen = loadScene(writeScene(
+      "psd_eigen.yaml", withKeys("    psd_projection: true\n    psd_method: eigen\n")));
+  const Scene blocks = loadScene(writeScene(
+      "psd_blocks.yaml", withKeys("    psd_projection: true\n    psd_method: diagonal_blocks\n")));
+  const Mesh& mesh = blocks.system.mesh;
+  TeranMuscleLaw::Constants k;
+  k.A = 5e4, k.B = 1e4, k.K = 4e5, k.sigmaMax = 2e5, k.activation = 0.4;
+  k.deviatoricStretch = false;
+  LawOptions options;
+  options.psdProjection = true;
+  options.psdMethod = PsdMethod::kDiagonalBlocks;
+  const HyperelasticModel<TeranMuscleLaw> direct(mesh, {k}, options);
+  // Compressed across the fibre, stretched along it (lam > 1: tau' < 0 for the active curve).
+  Eigen::Matrix3d A;
+  A << 1.25, 0.1, 0.0, 0.05, 0.55, 0.02, 0.0, 0.03, 0.7;
+  Eigen::VectorXd x(3 * mesh.numNodes()), d(3 * mesh.numNodes());
+  for (int n = 0; n < mesh.numNodes(); ++n) {
+    x.segment<3>(3 * n) = A * mesh.rest.col(n);
+    d.segment<3>(3 * n) = Eigen::Vector3d(std::sin(n), std::cos(3.0 * n), std::sin(7.0 * n));
+  }
+  const auto product = [&](const ForceModel& m) {
+    Eigen::VectorXd out = Eigen::VectorXd::Zero(x.size());
+    m.addStiffnessTimes(x, d, 1.0, out);
+    return out;
+  };
+  const Eigen::VectorXd pd = product(*byDefault.system.models[0]);
+  const Eigen::VectorXd pe = product(*eigen.system.models[0]);
+  const Eigen::VectorXd pb = product(*blocks.system.models[0]);
+  EXPECT_EQ(pd, pe);
+  const auto relative = [](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+    return (a - b).lpNorm<Eigen::Infinity>() / b.lpNorm<Eigen::Infinity>();
+  };
+  EXPECT_LT(relative(pb, product(direct)), 1e-12);
+  EXPECT_GT(relative(pb, pe), 1e-6);
+}
+
+TEST(TeranMuscleScene, MalformedPsdMethodNamesFileLineAndKey) {
+  const auto withKeys = [](const std::string& keys) {
+    return replaced(kMuscleScene, "    law: teran_muscle\n", "    law: teran_muscle\n" + keys);
+  };
+  const std::vector<testutil::BadScene> cases = {
+      {"unknown method", withKeys("    psd_projection: true\n    psd_method: newton\n"), 18,
+       "force_models[0].psd_method: expected one of: eigen, diagonal_blocks; got 'newton'"},
+      {"method without projection", withKeys("    psd_method: diagonal_blocks\n"), 17,
+       "force_models[0].psd_method: applies with psd_projection: true only"},
+      {"method with projection off",
+       withKeys("    psd_projection: false\n    psd_method: eigen\n"), 18,
+       "force_models[0].psd_method: applies with psd_projection: true only"},
+  };
+  testutil::expectEachSceneFailsClearly(cases, "bad_psd_method.yaml");
 }
 
 }  // namespace

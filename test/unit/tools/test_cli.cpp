@@ -498,29 +498,34 @@ const char* const kMuscleFlags =
 
 // The core model the flags describe: fibre (1, 2, 2)/3 in every tet.
 HyperelasticModel<TeranMuscleLaw> muscleModel(Mesh mesh, bool deviatoric, double threshold,
-                                              bool psd) {
+                                              bool psd,
+                                              PsdMethod method = PsdMethod::kEigen) {
   for (Eigen::Matrix3d& frame : mesh.fibreFrame) frame.col(0) = Eigen::Vector3d(1, 2, 2) / 3.0;
   mesh.material.assign(mesh.numTets(), 0);
   TeranMuscleLaw::Constants k;  // 6e4, 2e4, 6e4, 3e5
   k.activation = 0.6;
   k.deviatoricStretch = deviatoric;
-  return HyperelasticModel<TeranMuscleLaw>(mesh, {k}, {threshold, psd});
+  return HyperelasticModel<TeranMuscleLaw>(mesh, {k}, {threshold, psd, method});
 }
 
 // Energy, forces and H d of the flag form are the core model's (threshold 0.25 by default),
-// with --psd the projected H d, on compressed and inverted states, for both fibre stretches.
+// with --psd the projected H d (each --psd-method), on compressed and inverted states, for both
+// fibre stretches.
 TEST(Cli, FlagFormTeranMuscleIsTheCoreLaw) {
   for (double squash : {0.6, -0.3}) {
     const MuscleCase c = muscleCase(squash > 0 ? "compressed" : "inverted", squash);
     for (bool deviatoric : {true, false}) {
-      for (bool psd : {false, true}) {
+      for (int variant = 0; variant < 3; ++variant) {  // no projection, eigen, diagonal_blocks
+        const bool psd = variant > 0;
+        const PsdMethod method = variant == 2 ? PsdMethod::kDiagonalBlocks : PsdMethod::kEigen;
         const std::string flags = c.files + kMuscleFlags + " --fiber-stretch " +
                                   (deviatoric ? "deviatoric" : "nondeviatoric") +
-                                  (psd ? " --psd" : "");
+                                  (psd ? " --psd" : "") +
+                                  (variant == 2 ? " --psd-method diagonal_blocks" : "");
         const Result r = runCli("forces" + flags);
         ASSERT_EQ(r.exitCode, 0) << r.err;
         const ForcesOutput out = parseForces(r.out, c.mesh.numNodes(), true);
-        const auto model = muscleModel(c.mesh, deviatoric, 0.25, psd);
+        const auto model = muscleModel(c.mesh, deviatoric, 0.25, psd, method);
         Eigen::VectorXd f = Eigen::VectorXd::Zero(c.x.size());
         const double energy = model.addForce(c.x, Eigen::VectorXd::Zero(c.x.size()), f);
         Eigen::VectorXd Hd = Eigen::VectorXd::Zero(c.x.size());
@@ -595,6 +600,9 @@ TEST(Cli, FlagFormTeranMuscleRejectsBadFlagsInOneLine) {
        "tissue_cli: --mooney-rivlin expects 2 value(s)"},
       {c.files + " --model hyperelastic_neo_hookean --lambda 2000 --mu 1000 --psd",
        "tissue_cli: --psd applies to --model teran_muscle only"},
+      {with("extra --psd-method", "diagonal_blocks"), "tissue_cli: --psd-method applies with --psd only"},
+      {with("extra --psd --psd-method", "newton"),
+       "tissue_cli: --psd-method expects eigen or diagonal_blocks, got 'newton'"},
   };
   for (const Case& k : cases) {
     const Result r = runCli("forces" + k.arguments);

@@ -23,8 +23,12 @@
 // trial costs one force evaluation; Armijo's condition,
 // Pi(x + a dx) <= Pi(x) - c a f . dx), or, when a model has no energy, on the residual norm
 // (|f(x + a dx)| <= (1 - c a) |f(x)|). Near the solution the energy change can fall below
-// its round-off; a step whose energy change is within round-off and whose residual is smaller
-// is then taken as well.
+// its round-off (1e-12 of the energy); a step of at least 1/8 of Newton's whose energy change
+// is within round-off is then taken when it passes Armijo's test or lowers the residual. A
+// shorter one is refused: it lands in the round-off where the energy refused the longer ones,
+// and its residual moves by a hair; accepted, Newton crept at one residual for all its
+// iterations and the recovery below never started (80 % compression of a muscle block with
+// inversion handling, test_equilibrium_stall.cpp).
 //
 // When no step length is accepted (with the threshold-clamped inversion handling of
 // material/law_point.h the force at a clamped element is not the energy's gradient, and a

@@ -26,16 +26,39 @@ namespace tt {
 
 using Matrix9d = Eigen::Matrix<double, 9, 9>;
 
+enum class PsdMethod { kEigen, kDiagonalBlocks };
+
 struct LawOptions {
   // Inversion handling (Irving, Teran and Fedkiw, "Invertible finite elements for robust
   // simulation of large deformation", 2004, Sec. 4): the law is evaluated at
   // F^ = U diag(max(sigma_i, threshold)) V^T from the rotation-only SVD of F, so inverted and
   // flattened elements get a finite stress that pushes them back. 0 turns it off.
   double inversionThreshold = 0.0;
-  // The tangent made positive semi-definite (negative eigenvalues set to zero) where a solver
-  // asks for it: the stiffness matrix and the stiffness-vector product.
+  // The tangent made positive semi-definite where a solver asks for it: the stiffness matrix
+  // and the stiffness-vector product.
   bool psdProjection = false;
+  // How (psd_projection.h): kEigen sets the negative eigenvalues of the 9 x 9 tangent to zero;
+  // kDiagonalBlocks is Teran et al.'s projection as the muscle paper's Sec. 5.6 applies it
+  // (the isotropic part clamped block by block in the singular-value frame, the fibre term
+  // with its tension derivative clamped at zero), for laws with a diagonalBlocksTangent
+  // (teran_muscle) and isotropic laws (whose projection already is the block form).
+  PsdMethod psdMethod = PsdMethod::kEigen;
 };
+
+// Whether law L has the block-wise projected tangent of PsdMethod::kDiagonalBlocks.
+template <class Law, class = void>
+struct HasDiagonalBlocksTangent : std::false_type {};
+template <class Law>
+struct HasDiagonalBlocksTangent<
+    Law, std::void_t<decltype(Law::diagonalBlocksTangent(
+             std::declval<const typename Law::Parameters&>(),
+             std::declval<const Eigen::Matrix3d&>(), std::declval<const Eigen::Matrix3d&>(),
+             std::declval<const Eigen::Matrix3d&>(), std::declval<const Eigen::Vector3d&>()))>>
+    : std::true_type {};
+template <class Law>
+constexpr bool supportsPsdMethod(PsdMethod method) {
+  return method == PsdMethod::kEigen || Law::kIsotropic || HasDiagonalBlocksTangent<Law>::value;
+}
 
 // Whether law L has its own static tangent(p, F) (the same matrix, computed more cheaply).
 template <class Law, class = void>

@@ -45,20 +45,34 @@ inline LawPoint lawPoint(const Eigen::Matrix3d& F, const LawOptions& options) {
   return point;
 }
 
-// The tangent used at the point: the law's, or its PSD projection.
+// The singular values of the point's F (its SVD computed if the point has none yet), clamped
+// at the inversion threshold as lawPoint clamps F.
+inline Eigen::Vector3d clampedSingularValues(LawPoint& point, const LawOptions& options) {
+  if (!point.hasSvd) {
+    point.svd = rotationSvd(point.F);
+    point.hasSvd = true;
+  }
+  Eigen::Vector3d sigma = point.svd.sigma;
+  if (options.inversionThreshold > 0.0) sigma = sigma.cwiseMax(options.inversionThreshold);
+  return sigma;
+}
+
+// The tangent used at the point: the law's, or its PSD projection (options.psdMethod; a law
+// without the diagonal-blocks form is refused when its model is built, so the eigenvalue
+// clamp below is reached only for kEigen).
 template <class Law>
 Matrix9d pointTangent(const typename Law::Parameters& p, LawPoint& point,
                       const LawOptions& options) {
   if (!options.psdProjection) return lawTangent<Law>(p, point.F);
   if constexpr (Law::kIsotropic) {
-    if (!point.hasSvd) {
-      point.svd = rotationSvd(point.F);
-      point.hasSvd = true;
-    }
-    Eigen::Vector3d sigma = point.svd.sigma;
-    if (options.inversionThreshold > 0.0) sigma = sigma.cwiseMax(options.inversionThreshold);
-    return isotropicProjectedTangent<Law>(p, point.svd, sigma);
+    return isotropicProjectedTangent<Law>(p, point.svd, clampedSingularValues(point, options));
   } else {
+    if constexpr (HasDiagonalBlocksTangent<Law>::value) {
+      if (options.psdMethod == PsdMethod::kDiagonalBlocks) {
+        const Eigen::Vector3d sigma = clampedSingularValues(point, options);
+        return Law::diagonalBlocksTangent(p, point.F, point.svd.U, point.svd.V, sigma);
+      }
+    }
     Matrix9d A = lawTangent<Law>(p, point.F);
     projectPsd(A);
     return A;

@@ -6,6 +6,8 @@
 //   2005, Sec. 5): there the tangent splits into the 3 x 3 block of the diagonal entries and
 //   three 2 x 2 blocks of the pairs (F_ij, F_ji); each block is clamped on its own and the
 //   result turned back with U and V. Same answer as projectPsd, from small blocks.
+// teran_muscle's diagonalBlocksTangent (LawOptions::psdMethod kDiagonalBlocks) uses the same
+// blocks for its isotropic part and adds its fibre term projected on its own.
 #include <Eigen/Core>
 
 #include "tissue_trainer/core/material/inversion.h"

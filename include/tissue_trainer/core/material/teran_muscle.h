@@ -20,8 +20,11 @@
 // and a NaN stress, so inverting scenes use inversion handling (law.h).
 #include <Eigen/Core>
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include "tissue_trainer/core/material/psd_projection.h"
 
 namespace tt {
 
@@ -153,7 +156,61 @@ struct TeranMuscleLaw {
     return A;
   }
 
+  // The paper's PSD projection (Sec. 5.6, after Teran, Sifakis, Irving and Fedkiw 2005,
+  // Sec. 5) of the tangent at F = U diag(sigma) V^T (U, V rotations): the isotropic part's
+  // tangent in the singular-value frame is block-diagonal (the 3 x 3 block of the diagonal
+  // entries and the 2 x 2 blocks of the pairs (F_ij, F_ji), Sec. 4.5.1); each block's negative
+  // eigenvalues are set to zero and the result turned back with U and V. The fibre term is
+  // added on its own, made PSD:
+  //  - lam = |F a0| (the model of Eq. 45): dP_f = (c1 u + c2 (b.u) b) a0^T with u = dF a0,
+  //    b = F a0, c1 = tau / lam, c2 = (tau' - c1) / lam^2, where dF : dP_f =
+  //    |u|^2 (c1 sin^2 + tau' cos^2) of the angle between u and b; tau >= 0 for these curves,
+  //    so clamping tau' at zero (PhysBAM's max(0, Tension_Derivative)) makes it PSD;
+  //  - lam = J^(-1/3) |F a0| (Eq. 10 as written): the paper gives no differential of this
+  //    term, and it is not of that form; its exact 9 x 9 tangent has its negative
+  //    eigenvalues set to zero.
+  // A sum of PSD matrices, so PSD; where the unprojected tangent's parts are already PSD
+  // (small stretches, fibre at rest) it is the tangent itself.
+  static Eigen::Matrix<double, 9, 9> diagonalBlocksTangent(const Parameters& p,
+                                                           const Eigen::Matrix3d& F,
+                                                           const Eigen::Matrix3d& U,
+                                                           const Eigen::Matrix3d& V,
+                                                           const Eigen::Vector3d& sigma) {
+    Parameters isotropic = p;
+    isotropic.k.sigmaMax = 0.0;  // tau = tau' = 0: the fibre term drops out
+    Eigen::Matrix<double, 9, 9> Ahat = tangent(isotropic, Eigen::Matrix3d(sigma.asDiagonal()));
+    projectDiagonalFrameBlocks(Ahat);
+    const Eigen::Matrix<double, 9, 9> R = frameRotation(U, V);
+    Eigen::Matrix<double, 9, 9> A = R * Ahat * R.transpose();
+    addProjectedFibreTangent(p, F, A);
+    return A;
+  }
+
  private:
+  static void addProjectedFibreTangent(const Parameters& p, const Eigen::Matrix3d& F,
+                                       Eigen::Matrix<double, 9, 9>& A) {
+    if (p.k.deviatoricStretch) {
+      Parameters fibre = p;
+      fibre.k.A = fibre.k.B = fibre.k.K = 0.0;
+      Eigen::Matrix<double, 9, 9> Af = tangent(fibre, F);
+      projectPsd(Af);
+      A += Af;
+      return;
+    }
+    const Eigen::Vector3d b = F * p.a0;
+    const double lam = b.norm();
+    if (!(lam > 0.0)) return;  // |F a0| = 0 needs lam < 0.4, where both curves are zero
+    double psi, tau, dtau;
+    fibre(p.k, lam, psi, tau, dtau);
+    const double c1 = tau / lam, c2 = (std::max(dtau, 0.0) - c1) / (lam * lam);
+    // entry (i + 3 j, k + 3 l) = a0_j a0_l (c1 delta_ik + c2 b_i b_k)
+    Eigen::Matrix3d S = c2 * b * b.transpose();
+    S.diagonal().array() += c1;
+    for (int l = 0; l < 3; ++l)
+      for (int j = 0; j < 3; ++j)
+        A.block<3, 3>(3 * j, 3 * l) += (p.a0(j) * p.a0(l)) * S;
+  }
+
   static double stretch(const Parameters& p, const Eigen::Matrix3d& F, double J) {
     const double n = (F * p.a0).norm();
     return p.k.deviatoricStretch ? std::cbrt(1.0 / J) * n : n;

@@ -5,6 +5,8 @@
 // outside a scene; or its Lame constants, ModelContext::elastic).
 #include <functional>
 #include <memory>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "tissue_trainer/core/model/adamss/virtual_hexahedron.h"
@@ -21,6 +23,10 @@ template <class Law>
 LawModelFactory lawModelFactory(LawConstantsReader<Law> readConstants) {
   return [readConstants](const ModelContext& context,
                          const LawModelRequest& request) -> std::unique_ptr<ForceModel> {
+    if (!supportsPsdMethod<Law>(request.options.psdMethod))
+      throw std::invalid_argument(std::string("psd_method: diagonal_blocks needs law ") +
+                                  "teran_muscle or an isotropic law, not " + Law::kName +
+                                  " (use psd_method: eigen)");
     std::vector<typename Law::Constants> constants;
     for (std::size_t m = 0; m < context.materials.size(); ++m)
       constants.push_back(readConstants(context, m));
@@ -33,7 +39,7 @@ LawModelFactory lawModelFactory(LawConstantsReader<Law> readConstants) {
 }
 
 // The options every element model over a law reads from its scene entry
-// (inversion_threshold, psd_projection), and their key documentation.
+// (inversion_threshold, psd_projection, psd_method), and their key documentation.
 LawOptions readLawOptions(const YamlEntry& spec);
 std::vector<KeyDoc> lawOptionKeys();
 

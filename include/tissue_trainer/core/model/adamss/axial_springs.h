@@ -1,6 +1,6 @@
 #pragma once
 // The axial springs of the Adamss mass-spring system ("Adamss: Advanced Anisotropic
-// Mass-Spring System", Sec. 2.4.1): along each of an element's three axes a polynomial spring
+// Mass-Spring System", Sec. 2.4.2.1): along each of an element's three axes a polynomial spring
 // between the axis's two intersection points, f_2l = -phi_l zeta_hat_l at q_2l and the opposite
 // at q_2l+1 (Eqs. 2.33-2.34), with
 //   length form (Eqs. 2.35-2.36):  phi_l = sum_i k_l,i (|zeta_l| - |zeta_l^0|)^i, k in N/m^i;

@@ -1,6 +1,6 @@
 #pragma once
 // Material friction along the anisotropy axes of the Adamss mass-spring system ("Adamss:
-// Advanced Anisotropic Mass-Spring System", Sec. 2.4.2.4): at q_2l the force
+// Advanced Anisotropic Mass-Spring System", Sec. 2.4.2.5): at q_2l the force
 // -c_l (zeta_dot_l . zeta_hat_l) zeta_hat_l, the opposite at q_2l+1, which damps the rate of
 // change of each axis's length and nothing else (no rigid motion is damped). c_l is
 //   bourguignon (Eq. 2.108):        k_d, in N s/m;

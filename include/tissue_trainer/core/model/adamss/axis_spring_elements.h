@@ -1,6 +1,6 @@
 #pragma once
 // The element loops the Adamss spring models share ("Adamss: Advanced Anisotropic Mass-Spring
-// System", Sec. 2.4.1): a spring model computes, per element, the forces g_l at the points
+// System", Sec. 2.4.2.1): a spring model computes, per element, the forces g_l at the points
 // q_2l from the current axes zeta (columns; the force at q_2l+1 is -g_l, Eq. 2.34), and these
 // loops gather the axes from the nodes and carry the forces back (Eq. 2.29), on tets and hexes.
 // With an energy E(zeta) the nodal stiffness follows from its 9 x 9 Hessian in zeta.

@@ -1,6 +1,6 @@
 #pragma once
 // The torsion springs of the Adamss mass-spring system ("Adamss: Advanced Anisotropic
-// Mass-Spring System", Sec. 2.4.1): between each pair of an element's axes (l, m) a spring on
+// Mass-Spring System", Sec. 2.4.2.1): between each pair of an element's axes (l, m) a spring on
 // the angle alpha_lm between them (Eq. 2.32), theta = alpha_lm - alpha_lm^0, or on its cosine,
 // theta = zeta_hat_l . zeta_hat_m - (the same at rest); with psi = sum_i k_lm,i theta^i
 // (linear, Eqs. 2.40-2.45; cubic, Eqs. 2.47-2.50).
