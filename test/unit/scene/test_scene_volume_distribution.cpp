@@ -4,6 +4,9 @@
 // term it returns to its rest volume with the point forces along the axes and with their equal
 // shares to the face nodes. With the volume term alone only `axes` does: the moments of the
 // equal shares drive the shear modes the volume term does not resist until a tet inverts.
+// The factor is rebuilt on the stepping thread: with the default background rebuild, when a
+// new factor takes over depends on the machine's timing, and so does the collapse (the frame
+// it fails in and which of the guard's checks sees it first).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -23,7 +26,7 @@ mesh: {generator: box, nodes: [3, 3, 3], size: [0.02, 0.02, 0.02], split: five}
 materials: [{young_modulus: 1000, poisson_ratio: 0.3, volume_stiffness: 2000, density: 1000}]
 fibres: {angles_deg: [21.25, 49.6]}
 force_models: [{type: virtual_hexahedron, law: volume DISTRIBUTION}, SHEAR]
-integrator: {type: backward_euler}
+integrator: {type: backward_euler, background_refactor: false}
 loads: {rayleigh_mass: 20}
 run: {frame_time: 0.01, duration: 1.0}
 )";
