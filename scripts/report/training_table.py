@@ -21,6 +21,11 @@ def table(header, body):
     return "\n".join(out)
 
 
+def share(value):
+    """A fraction as a percentage, or '' when the run did not record it."""
+    return f"{100 * float(value):.0f} %" if value else ""
+
+
 def main(folder):
     print("# Speed of the distributed training system\n")
     print(f"Measured by `scripts/bench_training` on {machine_text()}, "
@@ -52,16 +57,20 @@ def main(folder):
                          g["step_wall_p99_ms"], g["step_wall_max_ms"], g["real_time_factor_p50"],
                          f"{g['steps_behind']} / {g['steps']}", g.get("unstable_steps", ""),
                          g.get("first_status_s", ""), g["peak_contact_force_n"],
+                         g.get("contact_depth_max_mm", ""), share(g.get("contact_share", "")),
                          g.get("peak_displacement_mm", ""), g.get("tool_lag_max_mm", ""),
                          g["bridge_period_p99_us"], g["bridge_period_max_us"],
                          g["wrench_gap_max_us"]])
         print(table(["mesh", "steps/s", "step p50 (ms)", "step p99 (ms)", "step max (ms)",
                      "real-time factor", "behind / steps", "failed steps", "first status (s)",
-                     "peak contact (N)", "peak tissue displacement (mm)", "tool lag max (mm)",
+                     "peak contact (N)", "tool depth max (mm)", "steps in contact",
+                     "peak tissue displacement (mm)", "tool lag max (mm)",
                      "bridge period p99 (us)", "bridge period max (us)",
                      "wrench gap max (us)"], body))
         print("\nA step is contact detection + one integrator advance + the surface message; "
-              "its wall time comes from /tissue/status. Peak tissue displacement: the largest "
+              "its wall time comes from /tissue/status. Tool depth: the deepest contact point's "
+              "depth in the tissue; steps in contact: the share of steps with a contact force. "
+              "Peak tissue displacement: the largest "
               "node displacement the status reported (the press's depth; the liver also sags "
               "under gravity after its release at the start); tool lag: the contact's tool "
               "proxy behind the instrument tip.\n")

@@ -31,6 +31,24 @@ bool finitePose(const Eigen::Isometry3d& pose) { return pose.matrix().allFinite(
 // Bullet's normal within about 1 degree of the triangle's: a face contact.
 constexpr double kFaceCosine = 0.99985;
 
+// The contact per unit area: the automatic sample spacing is at most 1 mm, and a triangle is
+// cut into at most 64 x 64 sub-triangles (a 6 cm triangle at 1 mm).
+constexpr double kMaxAutomaticSpacing = 1e-3;
+constexpr int kMaxSubdivisions = 64;
+
+// The world-axis box around a tool shape at its world pose.
+Eigen::AlignedBox3d worldBox(const ToolShape& s, const Eigen::Isometry3d& pose) {
+  Eigen::Vector3d half;
+  switch (s.type) {
+    case ToolShape::Type::kSphere: half.setConstant(s.radius); break;
+    case ToolShape::Type::kCapsule: half = Eigen::Vector3d(s.radius, s.radius, 0.5 * s.length + s.radius); break;
+    case ToolShape::Type::kCylinder: half = Eigen::Vector3d(s.radius, s.radius, 0.5 * s.length); break;
+    case ToolShape::Type::kBox: half = 0.5 * s.size; break;
+  }
+  const Eigen::Vector3d reach = pose.linear().cwiseAbs() * half;
+  return Eigen::AlignedBox3d(pose.translation() - reach, pose.translation() + reach);
+}
+
 // Margins in Bullet units (kBulletScale per metre): 0.05 mm on the tool, none on the tissue.
 constexpr btScalar kToolMargin = 0.005f;
 
@@ -208,30 +226,26 @@ TissueContact::TissueContact(System& system, const ContactSettings& settings,
     b.toolObjects.push_back(std::move(object));
   }
   shapePoses_.assign(shapes_.size(), Eigen::Isometry3d::Identity());
-  if (settings_.stiffnessPerArea > 0.0) prepareSurfaceNodes();
+  if (settings_.stiffnessPerArea > 0.0) prepareSurfaceSampling();
 }
 
-// Each surface node's share of the rest surface area (a third of each triangle it is a corner
-// of) and one of its triangles (for the contact points' report).
-void TissueContact::prepareSurfaceNodes() {
+// With a contact per unit area: each surface triangle's rest area, and the spacing of the
+// samples taken on the triangles near a tool (ContactSettings::sampleSpacing, or a quarter of
+// the thinnest tool shape and at most 1 mm).
+void TissueContact::prepareSurfaceSampling() {
   const Mesh& mesh = system_.mesh;
-  std::vector<double> area(mesh.numNodes(), 0.0);
-  std::vector<int> triangle(mesh.numNodes(), -1);
-  for (size_t t = 0; t < mesh.surface.size(); ++t) {
-    const Triangle& tri = mesh.surface[t];
+  triangleArea_.reserve(mesh.surface.size());
+  for (const Triangle& tri : mesh.surface) {
     const Eigen::Vector3d a = mesh.rest.col(tri[0]), b = mesh.rest.col(tri[1]), c = mesh.rest.col(tri[2]);
-    const double third = (b - a).cross(c - a).norm() / 6.0;
-    for (int node : tri) {
-      area[node] += third;
-      if (triangle[node] < 0) triangle[node] = static_cast<int>(t);
-    }
+    triangleArea_.push_back(0.5 * (b - a).cross(c - a).norm());
   }
-  for (int node = 0; node < mesh.numNodes(); ++node)
-    if (triangle[node] >= 0) {
-      surfaceNodes_.push_back(node);
-      nodeArea_.push_back(area[node]);
-      nodeTriangle_.push_back(triangle[node]);
-    }
+  sampleSpacing_ = settings_.sampleSpacing;
+  if (sampleSpacing_ > 0.0) return;
+  sampleSpacing_ = kMaxAutomaticSpacing;
+  for (const ToolShape& s : shapes_) {
+    const double thinnest = s.type == ToolShape::Type::kBox ? s.size.minCoeff() : 2.0 * s.radius;
+    sampleSpacing_ = std::min(sampleSpacing_, 0.25 * thinnest);
+  }
 }
 
 TissueContact::~TissueContact() {
@@ -341,7 +355,7 @@ const ContactResult& TissueContact::update() {
   haveLast_ = true;
 
   updateGrasp(jawAngle_ < settings_.graspJawAngle, previous);
-  if (settings_.stiffnessPerArea > 0.0) addNodePenalties(x);
+  if (settings_.stiffnessPerArea > 0.0) addSampledPenalties(x);
   else addPointPenalties(x);
 
   if (!model_->penalties.empty() || !model_->springs.empty()) {
@@ -406,39 +420,84 @@ bool TissueContact::grasped(int node) const {
   return std::find(graspNodes_.begin(), graspNodes_.end(), node) != graspNodes_.end();
 }
 
-// One penalty per surface node inside a tool shape (the deepest shape where several hold it),
-// of stiffness k_A times the node's share of the rest surface area: the contact patch, not the
-// count of Bullet's contact points, sets the force.
-void TissueContact::addNodePenalties(const Eigen::VectorXd& x) {
-  for (size_t i = 0; i < surfaceNodes_.size(); ++i) {
-    const int a = surfaceNodes_[i];
-    if (grasped(a)) continue;
-    const Eigen::Vector3d p = x.segment<3>(3 * a);
-    ContactPoint deepest;
-    for (size_t k = 0; k < shapes_.size(); ++k) {
-      double depth = 0.0;
-      Eigen::Vector3d outward;
-      if (!penetration(shapes_[k], shapePoses_[k], p, depth, outward) || depth <= deepest.depth)
-        continue;
-      deepest.shape = static_cast<int>(k);
-      deepest.depth = depth;
-      deepest.normal = -outward;  // from the tissue toward the tool
-    }
-    if (!(deepest.depth > 0.0)) continue;
-    deepest.triangle = nodeTriangle_[i];
-    deepest.tissuePoint = p;
-    deepest.toolPoint = p - deepest.depth * deepest.normal;
-    PenaltyContact pc;
-    pc.nodes = {a, a, a};
-    pc.weights = Eigen::Vector3d(1.0, 0.0, 0.0);
-    pc.normal = deepest.normal;
-    pc.toolPoint = deepest.toolPoint;
-    pc.stiffness = settings_.stiffnessPerArea * nodeArea_[i];
-    pc.damping = settings_.damping * nodeArea_[i];
-    if (!pc.normal.allFinite() || !pc.toolPoint.allFinite()) continue;
-    model_->penalties.push_back(pc);
-    result_.points.push_back(deepest);
+// The contact per unit area, sampled on the tissue's surface: every surface triangle whose box
+// meets a tool shape's box is cut into m x m congruent sub-triangles (m: its longest edge over
+// the sample spacing, at most kMaxSubdivisions). A sub-triangle's centroid inside a tool shape
+// gets a penalty of k_A times the sub-triangle's rest area along the triangle's outward normal,
+// at the depth of the tool below it: how far the point would have to move into the tissue to
+// leave the shape (the deepest shape where several hold it, so none counts twice). The force
+// for an indentation is then k_A times the volume of the tool below the surface, pressing it
+// ever deeper raises it (a nearest-face depth would turn sideways under a narrow tool), and
+// the samples are as fine as the tool whatever the mesh, so a tool smaller than the triangles
+// cannot slip between the nodes.
+void TissueContact::addSampledPenalties(const Eigen::VectorXd& x) {
+  std::vector<Eigen::AlignedBox3d> toolBoxes;
+  Eigen::AlignedBox3d anyTool;
+  for (size_t k = 0; k < shapes_.size(); ++k) {
+    toolBoxes.push_back(worldBox(shapes_[k], shapePoses_[k]));
+    anyTool.extend(toolBoxes.back());
   }
+  const auto& surface = system_.mesh.surface;
+  std::vector<int> near;  // the shapes whose boxes meet the triangle's
+  for (size_t t = 0; t < surface.size(); ++t) {
+    const Triangle& tri = surface[t];
+    const Eigen::Vector3d corner[3] = {x.segment<3>(3 * tri[0]), x.segment<3>(3 * tri[1]),
+                                       x.segment<3>(3 * tri[2])};
+    Eigen::AlignedBox3d box(corner[0]);
+    box.extend(corner[1]).extend(corner[2]);
+    if (!box.intersects(anyTool)) continue;
+    if (std::any_of(tri.begin(), tri.end(), [&](int a) { return grasped(a); })) continue;
+    near.clear();
+    for (size_t k = 0; k < shapes_.size(); ++k)
+      if (box.intersects(toolBoxes[k])) near.push_back(static_cast<int>(k));
+    const Eigen::Vector3d outward = (corner[1] - corner[0]).cross(corner[2] - corner[0]).normalized();
+    if (near.empty() || !outward.allFinite()) continue;
+    const double longest = std::max({(corner[1] - corner[0]).norm(), (corner[2] - corner[1]).norm(),
+                                     (corner[0] - corner[2]).norm()});
+    const int m = static_cast<int>(
+        std::clamp(std::ceil(longest / sampleSpacing_), 1.0, static_cast<double>(kMaxSubdivisions)));
+    const double subArea = triangleArea_[t] / (m * m);
+    // Sub-triangle centroids in barycentric coordinates (i, j: the lattice corner, steps of 1/m):
+    // the m(m+1)/2 upright ones at (i + 1/3, j + 1/3) / m, the m(m-1)/2 inverted at (i + 2/3, j + 2/3) / m.
+    for (int i = 0; i < m; ++i)
+      for (int j = 0; i + j < m; ++j)
+        for (const double shift : {1.0 / 3.0, 2.0 / 3.0}) {
+          if (shift > 0.5 && i + j > m - 2) continue;
+          const double u = (i + shift) / m, v = (j + shift) / m;
+          const Eigen::Vector3d weights(1.0 - u - v, u, v);
+          addSample(static_cast<int>(t), weights, corner, outward, subArea, near);
+        }
+  }
+}
+
+void TissueContact::addSample(int triangle, const Eigen::Vector3d& weights,
+                              const Eigen::Vector3d (&corner)[3], const Eigen::Vector3d& outward,
+                              double area, const std::vector<int>& shapes) {
+  const Eigen::Vector3d p = weights[0] * corner[0] + weights[1] * corner[1] + weights[2] * corner[2];
+  ContactPoint deepest;
+  for (const int k : shapes) {
+    double depth = 0.0;
+    if (!exitDistance(shapes_[k], shapePoses_[k], p, -outward, depth) || depth <= deepest.depth)
+      continue;
+    deepest.shape = k;
+    deepest.depth = depth;
+  }
+  if (!(deepest.depth > 0.0)) return;
+  deepest.triangle = triangle;
+  deepest.normal = outward;  // from the tissue toward the tool
+  deepest.tissuePoint = p;
+  deepest.toolPoint = p - deepest.depth * outward;
+  const Triangle& tri = system_.mesh.surface[triangle];
+  PenaltyContact pc;
+  pc.nodes = {tri[0], tri[1], tri[2]};
+  pc.weights = weights;
+  pc.normal = outward;
+  pc.toolPoint = deepest.toolPoint;
+  pc.stiffness = settings_.stiffnessPerArea * area;
+  pc.damping = settings_.damping * area;
+  if (!pc.toolPoint.allFinite()) return;
+  model_->penalties.push_back(pc);
+  result_.points.push_back(deepest);
 }
 
 void TissueContact::addPointPenalties(const Eigen::VectorXd& x) {

@@ -52,7 +52,59 @@ bool localPenetration(const ToolShape& s, const Eigen::Vector3d& q, double& dept
   return depth > 0.0;
 }
 
+// The far root s of |q + s u|^2 = r^2 (q inside the sphere of radius r about the origin).
+double sphereExit(const Eigen::Vector3d& q, const Eigen::Vector3d& u, double r) {
+  const double b = q.dot(u);
+  return -b + std::sqrt(std::max(0.0, b * b - q.squaredNorm() + r * r));
+}
+
+// The far root s of |(q + s u)_xy|^2 = r^2, or infinity when u runs along z.
+double radialExit(const Eigen::Vector3d& q, const Eigen::Vector3d& u, double r) {
+  const Eigen::Vector2d qxy = q.head<2>(), uxy = u.head<2>();
+  const double a = uxy.squaredNorm();
+  if (a < 1e-30) return HUGE_VAL;
+  const double b = qxy.dot(uxy);
+  return (-b + std::sqrt(std::max(0.0, b * b - a * (qxy.squaredNorm() - r * r)))) / a;
+}
+
+// The slab exit along one axis: where q_i + s u_i reaches the face at +-half, or infinity.
+double slabExit(double q, double u, double half) {
+  if (u == 0.0) return HUGE_VAL;
+  return ((u > 0.0 ? half : -half) - q) / u;
+}
+
+double localExit(const ToolShape& s, const Eigen::Vector3d& q, const Eigen::Vector3d& u) {
+  switch (s.type) {
+    case ToolShape::Type::kSphere:
+      return sphereExit(q, u, s.radius);
+    case ToolShape::Type::kCapsule: {
+      const double half = 0.5 * s.length, side = radialExit(q, u, s.radius);
+      const double z = q.z() + side * u.z();
+      if (std::abs(z) <= half) return side;
+      return sphereExit(q - Eigen::Vector3d(0, 0, z > 0.0 ? half : -half), u, s.radius);
+    }
+    case ToolShape::Type::kCylinder:
+      return std::min(radialExit(q, u, s.radius), slabExit(q.z(), u.z(), 0.5 * s.length));
+    case ToolShape::Type::kBox: {
+      double exit = HUGE_VAL;
+      for (int i = 0; i < 3; ++i) exit = std::min(exit, slabExit(q[i], u[i], 0.5 * s.size[i]));
+      return exit;
+    }
+  }
+  return 0.0;
+}
+
 }  // namespace
+
+bool exitDistance(const ToolShape& shape, const Eigen::Isometry3d& pose, const Eigen::Vector3d& p,
+                  const Eigen::Vector3d& u, double& distance) {
+  double depth = 0.0;
+  Eigen::Vector3d unused;
+  const Eigen::Vector3d q = pose.inverse() * p;
+  if (!localPenetration(shape, q, depth, unused)) return false;
+  distance = localExit(shape, q, pose.linear().transpose() * u);
+  return distance > 0.0 && std::isfinite(distance);
+}
 
 bool penetration(const ToolShape& shape, const Eigen::Isometry3d& pose, const Eigen::Vector3d& p,
                  double& depth, Eigen::Vector3d& outward) {

@@ -191,21 +191,24 @@ RenderSurface loadRenderSurface(const YamlEntry& spec, const fs::path& sceneDir,
   return render;
 }
 
-// contact: {stiffness | stiffness_per_area, damping, grasp_stiffness, grasp_jaw_angle,
+// contact: {stiffness | stiffness_per_area, sample_spacing, damping, grasp_stiffness, grasp_jaw_angle,
 // grasp_radius, grasp_max_nodes, felt_stiffness, tool_max_speed}; every key optional (defaults in
 // ContactSettings).
 ContactSettings readContact(const YamlEntry& spec) {
   if (spec.node().IsNull()) return {};
-  spec.expectMap({"stiffness", "stiffness_per_area", "damping", "grasp_stiffness",
+  spec.expectMap({"stiffness", "stiffness_per_area", "sample_spacing", "damping", "grasp_stiffness",
                   "grasp_jaw_angle", "grasp_radius", "grasp_max_nodes", "felt_stiffness",
                   "tool_max_speed"});
   ContactSettings c;
   if (spec.has("stiffness") && spec.has("stiffness_per_area"))
     spec["stiffness_per_area"].fail(
-        "give either stiffness (N/m per contact point) or stiffness_per_area (N/m^3 per surface "
-        "node's area), not both");
+        "give either stiffness (N/m per contact point) or stiffness_per_area (N/m^3, the contact "
+        "per unit area), not both");
   c.stiffness = spec.positive("stiffness", c.stiffness);
   c.stiffnessPerArea = spec.positive("stiffness_per_area", c.stiffnessPerArea);
+  if (spec.has("sample_spacing") && !spec.has("stiffness_per_area"))
+    spec["sample_spacing"].fail("is for the contact per unit area: give stiffness_per_area too");
+  c.sampleSpacing = spec.positive("sample_spacing", c.sampleSpacing);
   if (spec.has("damping")) {
     c.damping = spec["damping"].number();
     if (c.damping < 0.0) spec["damping"].fail("expected a non-negative damping (N s/m)");

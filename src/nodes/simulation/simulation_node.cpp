@@ -473,6 +473,8 @@ void SimulationNode::publishStatus(const tt::StepReport& report, double stepWall
   msg.volume_ratio = log.volumeRatio;
   msg.max_displacement = log.maxDisplacement;
   msg.contact_force = lastContact_.f0.norm();
+  msg.contact_depth = 0.0;
+  for (const tt::ContactPoint& p : lastContact_.points) msg.contact_depth = std::max(msg.contact_depth, p.depth);
   msg.max_strain = strain.maxStrain;
   msg.damage_strain = params_.damageStrain;
   msg.strained_volume = strain.strainedVolume;

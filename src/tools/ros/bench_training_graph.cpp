@@ -379,6 +379,8 @@ class GraphProbe {
     r.add("unstable_steps", double(unstable_), "%.0f");
     r.add("peak_contact_force_n", peakForce_, "%.3f");
     r.add("peak_displacement_mm", 1e3 * peakDisplacement_, "%.2f");
+    r.add("contact_depth_max_mm", 1e3 * peakDepth_, "%.2f");
+    r.add("contact_share", stepWall_.empty() ? 0.0 : double(inContact_) / stepWall_.size(), "%.3f");
     contacts_.addTo(r, "contact");
     wrenches_.addTo(r, "wrench");
     bridge_.addTo(r);
@@ -400,6 +402,8 @@ class GraphProbe {
     if (s->behind_schedule) ++behind_;
     if (!s->stable) ++unstable_;
     peakForce_ = std::max(peakForce_, s->contact_force);
+    peakDepth_ = std::max(peakDepth_, s->contact_depth);
+    if (s->contact_force > 0.0) ++inContact_;
     peakDisplacement_ = std::max(peakDisplacement_, s->max_displacement);
   }
   void onContact(const tissue_trainer::ContactModel::ConstPtr&) {
@@ -416,8 +420,9 @@ class GraphProbe {
   BridgeStatusLog bridge_;
   std::mutex m_;
   bool measuring_ = false;
-  std::size_t tissueCount_ = 0, behind_ = 0, unstable_ = 0;
-  double peakForce_ = 0.0, peakDisplacement_ = 0.0;  // the press's force and depth in the tissue
+  std::size_t tissueCount_ = 0, behind_ = 0, unstable_ = 0, inContact_ = 0;
+  double peakForce_ = 0.0, peakDisplacement_ = 0.0;  // the press's force, the tissue's displacement
+  double peakDepth_ = 0.0;                           // the tool's deepest point in the tissue
   double started_ = 0.0, firstStatus_ = 0.0, firstBehind_ = 0.0, lastBehind_ = 0.0, maxToolLag_ = 0.0;
   std::vector<double> stepWall_, stepTime_, rtf_;
   ArrivalLog contacts_, wrenches_;

@@ -87,6 +87,8 @@ TEST(MalformedScene, EachErrorNamesFileLineAndKey) {
       {"negative contact stiffness", edited("run:", "contact: {stiffness: -100}\nrun:"), 21, "contact.stiffness: expected a positive number"},
       {"both contact stiffnesses", edited("run:", "contact: {stiffness: 100, stiffness_per_area: 1e6}\nrun:"), 21, "contact.stiffness_per_area: give either stiffness"},
       {"negative contact stiffness per area", edited("run:", "contact: {stiffness_per_area: -1e6}\nrun:"), 21, "contact.stiffness_per_area: expected a positive number"},
+      {"sample spacing without the per-area contact", edited("run:", "contact: {sample_spacing: 1e-3}\nrun:"), 21, "contact.sample_spacing: is for the contact per unit area"},
+      {"zero sample spacing", edited("run:", "contact: {stiffness_per_area: 1e6, sample_spacing: 0}\nrun:"), 21, "contact.sample_spacing: expected a positive number"},
       {"negative contact damping", edited("run:", "contact: {damping: -1}\nrun:"), 21, "contact.damping"},
       {"grasp angle out of range", edited("run:", "contact: {grasp_jaw_angle: 4}\nrun:"), 21, "[0, pi]"},
       {"unknown felt stiffness", edited("run:", "contact: {felt_stiffness: tissue}\nrun:"), 21, "contact.felt_stiffness: expected one of"},

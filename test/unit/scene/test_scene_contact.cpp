@@ -88,9 +88,11 @@ TEST(SceneContact, ContactIsBuiltOnlyWhenListed) {
   EXPECT_EQ(listed.contact->graspMaxNodes, 5);
   EXPECT_EQ(listed.system.models.size(), 1u);  // the contact model comes with the contact library
   EXPECT_EQ(listed.contact->stiffnessPerArea, 0.0);
-  const Scene perArea = sceneFrom(block("") + "contact: {stiffness_per_area: 2.5e6}\n");
+  EXPECT_EQ(listed.contact->sampleSpacing, 0.0);
+  const Scene perArea = sceneFrom(block("") + "contact: {stiffness_per_area: 2.5e6, sample_spacing: 5e-4}\n");
   ASSERT_TRUE(perArea.contact.has_value());
   EXPECT_EQ(perArea.contact->stiffnessPerArea, 2.5e6);
+  EXPECT_EQ(perArea.contact->sampleSpacing, 5e-4);
   EXPECT_EQ(perArea.contact->toolMaxSpeed, ContactSettings{}.toolMaxSpeed);
   EXPECT_EQ(sceneFrom(block("") + "contact: {tool_max_speed: 0.25}\n").contact->toolMaxSpeed, 0.25);
 }

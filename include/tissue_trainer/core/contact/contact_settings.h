@@ -6,8 +6,10 @@ namespace tt {
 
 struct ContactSettings {
   double stiffness = 200.0;        // penalty k_c per contact point (N/m)
-  // > 0: penalties per surface node inside the tool instead, k_A times the node's area (N/m^3)
+  // > 0: a contact per unit area instead, k_A times the area of the surface inside the tool
+  // (N/m^3), sampled every sampleSpacing (m; 0: a quarter of the thinnest tool shape, at most 1 mm)
   double stiffnessPerArea = 0.0;
+  double sampleSpacing = 0.0;
   double damping = 0.0;            // normal damping per contact point (N s/m; N s/m^3 with k_A)
   double graspStiffness = 100.0;   // spring from each grasped node to the tip (N/m)
   double graspJawAngle = 0.1;      // jaw opening (rad) below which the jaws grasp

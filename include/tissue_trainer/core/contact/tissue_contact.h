@@ -22,12 +22,13 @@
 // ContactSettings::stiffness, so the contact gets stiffer, and the load more concentrated, as
 // the surface is refined.
 //
-// Or, with ContactSettings::stiffnessPerArea > 0, per surface node: every surface node inside
-// a tool shape (penetration(), tool_shape.h; Bullet is not queried) is pushed out along the
-// shape's nearest-surface normal by a penalty of stiffnessPerArea times the node's share of
-// the rest surface area, so that the force for an indentation is (the integral of the depth
-// over the patch) times stiffnessPerArea whatever the resolution. A tool smaller than the
-// spacing of the surface nodes can then slip between them: for meshes finer than the tool.
+// Or, with ContactSettings::stiffnessPerArea > 0, per unit area (Bullet is not queried): the
+// surface triangles near a tool are sampled at the tool's scale (sub-triangles of about
+// ContactSettings::sampleSpacing), and every sample inside a tool shape is pushed back along
+// its triangle's normal by a penalty of stiffnessPerArea times its share of the rest surface
+// area at the depth of the tool below it (exitDistance(), tool_shape.h): the force for an
+// indentation is stiffnessPerArea times the volume of the tool below the surface whatever the
+// resolution, and a tool smaller than the triangles still meets the surface between the nodes.
 //
 // Bullet works internally in centimetres (kBulletScale): its GJK/EPA tolerances suit objects
 // of about 0.05 to 10 units, millimetre jaws in metres do not.
@@ -97,10 +98,12 @@ class TissueContact {
 
  private:
   struct Bullet;
-  void prepareSurfaceNodes();
+  void prepareSurfaceSampling();
   void updateGrasp(bool jawClosed, const std::vector<ContactPoint>& previous);
   void addPointPenalties(const Eigen::VectorXd& x);
-  void addNodePenalties(const Eigen::VectorXd& x);
+  void addSampledPenalties(const Eigen::VectorXd& x);
+  void addSample(int triangle, const Eigen::Vector3d& weights, const Eigen::Vector3d (&corner)[3],
+                 const Eigen::Vector3d& outward, double area, const std::vector<int>& shapes);
   bool grasped(int node) const;
   Eigen::Matrix3d feltStiffness(const Eigen::VectorXd& x);
   double tissuePointStiffness(const PenaltyContact& c) const;
@@ -125,11 +128,10 @@ class TissueContact {
   std::vector<int> graspNodes_;
   ContactResult result_;
   SparseMatrix tissueStiffness_;  // -df/dx of the tissue's models (ContactSettings::tissueInSeries)
-  // With ContactSettings::stiffnessPerArea: the surface nodes, each one's share of the rest
-  // surface area (m^2) and one triangle it is a corner of.
-  std::vector<int> surfaceNodes_;
-  std::vector<double> nodeArea_;
-  std::vector<int> nodeTriangle_;
+  // With ContactSettings::stiffnessPerArea: each surface triangle's rest area (m^2) and the
+  // spacing of the samples on the triangles (m).
+  std::vector<double> triangleArea_;
+  double sampleSpacing_ = 0.0;
 };
 
 }  // namespace tt

@@ -25,4 +25,10 @@ struct ToolShape {
 bool penetration(const ToolShape& shape, const Eigen::Isometry3d& pose, const Eigen::Vector3d& p,
                  double& depth, Eigen::Vector3d& outward);
 
+// How far the point p (world), inside the shape posed at `pose`, must move along the unit
+// direction u to leave it (m, > 0): the far end of the ray p + s u in the convex shape. False
+// when p is not inside.
+bool exitDistance(const ToolShape& shape, const Eigen::Isometry3d& pose, const Eigen::Vector3d& p,
+                  const Eigen::Vector3d& u, double& distance);
+
 }  // namespace tt
