@@ -14,10 +14,12 @@
 //   t_a = 1 - 25/6 e^2 (|e| < 0.4);  25/3 (|e| - 0.6)^2 (|e| < 0.6);  0 (beyond),
 // and Phi_a, Phi_p their integrals from lam = 1.
 //
-// P and dP are the closed-form derivatives of psi at F (valid for a general F, no SVD; the
-// paper's diagonal-frame Eq. 15 and its alpha/beta/eta blocks are the same tensors in the
-// singular-value frame). Defined for J > 0 only: an inverted element gives an infinite energy
-// and a NaN stress, so inverting scenes use inversion handling (law.h).
+// P and dP are the closed-form derivatives of psi at F (valid for a general F, no SVD). The
+// paper's route through the singular-value frame (Eq. 15, the alpha/beta/eta blocks of
+// Sec. 4.5.1.4, Eq. 45) is teran_muscle_svd_frame.h; the tests TeranMuscleSvdFrame.* hold the
+// two equal to round-off (docs/muscles.md, "The singular-value frame"). Defined for J > 0 only:
+// an inverted element gives an infinite energy and a NaN stress, so inverting scenes use
+// inversion handling (law.h).
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <algorithm>
