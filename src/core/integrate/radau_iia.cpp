@@ -237,7 +237,9 @@ void RadauIIA::Workspace::prepareFrame(const System& sys, const RadauOptions& op
   absTol.resize(2 * n);
   absTol.head(n).setConstant(options.absTol * ratio);
   absTol.tail(n).setConstant(absVel * ratio);
-  newtonTol = std::max(10.0 * kRoundoff / relTol, std::min(0.03, std::sqrt(relTol)));
+  newtonTol = options.newtonTolerance > 0.0
+                  ? options.newtonTolerance
+                  : std::max(10.0 * kRoundoff / relTol, std::min(0.03, std::sqrt(relTol)));
   prescribedZ.resize(2 * static_cast<int>(constrained.size()), 3);
   if (simplified) {
     dampingDiagonal = -sys.damping;

@@ -26,6 +26,7 @@ inline double edgeK(const EdgeLengthLiteralTet& t, int j, int k) { return t.K[kE
 bool parseEdgeLengthPath(const std::string& name, EdgeLengthPath& path) {
   if (name == "fast") path = EdgeLengthPath::kFast;
   else if (name == "literal") path = EdgeLengthPath::kLiteral;
+  else if (name == "eq30") path = EdgeLengthPath::kEq30;
   else return false;
   return true;
 }
@@ -66,13 +67,23 @@ EdgeLengthLiteralTet makeEdgeLengthLiteralTet(const Eigen::Matrix3Xd& rest, cons
   return t;
 }
 
-Matrix34d edgeLengthLiteralGradient(const Matrix34d& xe, const EdgeLengthLiteralTet& t) {
-  double d[6];
-  double trace = 0.0;  // sum over edges of (L^2 - l^2) K_jk
+namespace {
+
+// The six edges' L^2 - l^2 into d; returns their sum weighted by K_jk (the trace term).
+double edgeStretches(const Matrix34d& xe, const EdgeLengthLiteralTet& t, double (&d)[6]) {
+  double trace = 0.0;
   for (int e = 0; e < 6; ++e) {
     d[e] = (xe.col(kEdgeNodes[e][1]) - xe.col(kEdgeNodes[e][0])).squaredNorm() - t.restSq[e];
     trace += d[e] * t.K[e];
   }
+  return trace;
+}
+
+}  // namespace
+
+Matrix34d edgeLengthLiteralGradient(const Matrix34d& xe, const EdgeLengthLiteralTet& t) {
+  double d[6];
+  const double trace = edgeStretches(xe, t, d);
   const auto& A2 = t.areaSq;
   const auto& a = t.fibreGrad;
   Matrix34d G = Matrix34d::Zero();
@@ -94,6 +105,44 @@ Matrix34d edgeLengthLiteralGradient(const Matrix34d& xe, const EdgeLengthLiteral
       G.col(p) += coefJ * (xe.col(p) - xe.col(j)) + coefK * (xe.col(p) - xe.col(k)) +
                   coefM * (xe.col(p) - xe.col(m));
     }
+  }
+  return G;
+}
+
+Matrix34d edgeLengthEq30Gradient(const Matrix34d& xe, const EdgeLengthLiteralTet& t) {
+  double d[6];
+  const double trace = edgeStretches(xe, t, d);
+  const auto& A2 = t.areaSq;
+  const auto& a = t.fibreGrad;
+  Matrix34d G;
+  for (int p = 0; p < 4; ++p) {
+    Eigen::Vector3d volumetric = Eigen::Vector3d::Zero();  // sum over j-p of Q_jQ_p K_jp
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    for (int j = 0; j < 4; ++j) {  // lines 2-3: the edges j-p; k, m the other two nodes
+      if (j == p) continue;
+      int k, m;
+      otherTwo(j, p, k, m);
+      const Eigen::Vector3d qj = xe.col(p) - xe.col(j), qk = xe.col(p) - xe.col(k),
+                            qm = xe.col(p) - xe.col(m);
+      const double dJP = d[kEdgeOf[j][p]];
+      volumetric += edgeK(t, j, p) * qj;
+      g += (t.muScale * A2[p] * dJP) * (A2[j] * qj - edgeK(t, j, k) * qk - edgeK(t, j, m) * qm);
+      g += (t.c * a[p] * a[p] * a[j] * dJP) * (a[j] * qj + a[k] * qk + a[m] * qm);
+    }
+    g += (t.lambdaMuScale * trace) * volumetric;  // line 1
+    for (int e = 0; e < 6; ++e) {  // lines 4-5: the edges j-k opposite p; m the fourth node
+      const int j = kEdgeNodes[e][0], k = kEdgeNodes[e][1];
+      if (j == p || k == p) continue;
+      const int m = 6 - j - k - p;
+      const Eigen::Vector3d qj = xe.col(p) - xe.col(j), qk = xe.col(p) - xe.col(k),
+                            qm = xe.col(p) - xe.col(m);
+      const double Kjkmp = edgeK(t, j, p) * edgeK(t, k, m) + edgeK(t, j, m) * edgeK(t, k, p) -
+                           edgeK(t, j, k) * edgeK(t, m, p);  // Eq 21
+      g += (t.muScale * d[e]) *
+           (Kjkmp * qm - A2[j] * edgeK(t, k, p) * qj - A2[k] * edgeK(t, j, p) * qk);
+      g += (t.c * a[p] * d[e] * a[j] * a[k]) * (a[m] * qm + a[j] * qj + a[k] * qk);
+    }
+    G.col(p) = g;
   }
   return G;
 }
@@ -137,7 +186,7 @@ double edgeLengthLiteralDensity(const Matrix34d& xe, const EdgeLengthLiteralTet&
 EdgeLengthModel::EdgeLengthModel(const Mesh& mesh, const std::vector<Material>& materials,
                                  EdgeLengthPath path, bool psdProjection)
     : tets_(mesh.tets), stvk_(makeStvkTets(mesh, materials)), path_(path), psdProjection_(psdProjection) {
-  if (path_ != EdgeLengthPath::kLiteral) return;
+  if (path_ == EdgeLengthPath::kFast) return;
   literal_.resize(tets_.size());
   for (size_t e = 0; e < tets_.size(); ++e)
     literal_[e] = makeEdgeLengthLiteralTet(mesh.rest, tets_[e], stvk_[e].fibre,
@@ -150,7 +199,8 @@ double EdgeLengthModel::addForce(const Eigen::VectorXd& x, const Eigen::VectorXd
   return accumulateTetForces(tets_, f, [&](int e, Matrix34d& fe) {
     const Matrix34d xe = gatherTet(x, tets_[e]);
     const EdgeLengthLiteralTet& t = literal_[e];
-    fe.noalias() = -t.volume * edgeLengthLiteralGradient(xe, t);
+    if (path_ == EdgeLengthPath::kEq30) fe.noalias() = -t.volume * edgeLengthEq30Gradient(xe, t);
+    else fe.noalias() = -t.volume * edgeLengthLiteralGradient(xe, t);
     return t.volume * edgeLengthLiteralDensity(xe, t);
   });
 }

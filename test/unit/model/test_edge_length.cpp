@@ -1,13 +1,14 @@
 // Jeffrey, "A non-linear anisotropic Finite Element Method for surgical simulation", Sec. 2
 // (Eqs 20, 29, 31; the printed energy is a density and the printed force its positive
-// gradient): the edge-length StVK tetrahedron, its fast (F, E, S) and literal (Eq 31) paths
-// and their shared analytic stiffness.
+// gradient): the edge-length StVK tetrahedron, its fast (F, E, S), literal (Eq 31) and Eq 30
+// paths and their shared analytic stiffness.
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
 
 #include "../model_test_util.h"
 #include "tissue_trainer/core/model/edge_length.h"
+#include "tissue_trainer/core/scene/registry.h"
 
 namespace tt {
 namespace {
@@ -50,6 +51,36 @@ TEST(EdgeLength, LiteralAndFastPathsAgreeOnRandomTets) {
                            std::abs(literal.energy(x) - fast.energy(x)) / fast.energy(x));
   }
   EXPECT_LT(worstForce, 1e-10);
+  EXPECT_LT(worstEnergy, 1e-10);
+}
+
+// Eq 30 (two sums, line 4's K_jkm read as K_jkmp) against Eq 31 (one sum) and the fast path:
+// per tet on random rest shapes, small and large strains, rotated and translated, and with
+// the fibre coefficient of both signs (lambda^L, mu^L above and below lambda, mu).
+TEST(EdgeLength, Eq30AgreesWithEq31AndTheFastPathOnRandomTets) {
+  std::mt19937 rng(12);
+  const std::vector<std::vector<Material>> materialSets = {
+      testMaterials(), {Material::transverselyIsotropic(1.2e5, 0.35, 3e4, 0.3, 1e3)}};
+  double worst31 = 0.0, worstFast = 0.0, worstEnergy = 0.0;
+  for (int trial = 0; trial < 200; ++trial) {
+    Mesh m = randomTet(rng, 0.01);
+    const std::vector<Material>& mats = materialSets[trial % 2];
+    const double amplitude = (trial % 4 == 0 ? 0.5 : 0.05) * 0.01;
+    const Eigen::VectorXd x = rigidMotion(perturbed(m, amplitude, rng), randomRotation(rng),
+                                          Eigen::Vector3d(0.01, -0.02, 0.03));
+    EdgeLengthModel fast(m, mats, EdgeLengthPath::kFast);
+    EdgeLengthModel eq31(m, mats, EdgeLengthPath::kLiteral);
+    EdgeLengthModel eq30(m, mats, EdgeLengthPath::kEq30);
+    Eigen::VectorXd f30 = Eigen::VectorXd::Zero(12), f31 = f30, ff = f30;
+    const double e30 = eq30.addForce(x, x, f30), e31 = eq31.addForce(x, x, f31);
+    const double ef = fast.addForce(x, x, ff);
+    worst31 = std::max(worst31, relDiff(f30, f31));
+    worstFast = std::max(worstFast, relDiff(f30, ff));
+    worstEnergy = std::max({worstEnergy, std::abs(e30 - ef) / ef, std::abs(e30 - e31) / ef,
+                            std::abs(eq30.energy(x) - ef) / ef});
+  }
+  EXPECT_LT(worst31, 1e-12);
+  EXPECT_LT(worstFast, 1e-10);
   EXPECT_LT(worstEnergy, 1e-10);
 }
 
@@ -110,8 +141,9 @@ TEST_P(EdgeLengthPaths, RigidMotionLeavesEnergyAndRotatesForces) {
   EXPECT_LT(relDiff(force(model, y), rotateVectors(force(model, x), R)), 1e-9);
 }
 
-INSTANTIATE_TEST_SUITE_P(BothPaths, EdgeLengthPaths,
-                         ::testing::Values(EdgeLengthPath::kFast, EdgeLengthPath::kLiteral));
+INSTANTIATE_TEST_SUITE_P(AllPaths, EdgeLengthPaths,
+                         ::testing::Values(EdgeLengthPath::kFast, EdgeLengthPath::kLiteral,
+                                           EdgeLengthPath::kEq30));
 
 // Energy of a 5% uniaxial stretch of a single tet along direction n.
 double stretchEnergy(const Mesh& m, const std::vector<Material>& mats, EdgeLengthPath path,
@@ -125,7 +157,7 @@ double stretchEnergy(const Mesh& m, const std::vector<Material>& mats, EdgeLengt
 
 TEST(EdgeLength, StretchAlongFibreCostsMoreWhenELExceedsET) {
   std::mt19937 rng(8);
-  for (EdgeLengthPath path : {EdgeLengthPath::kFast, EdgeLengthPath::kLiteral}) {
+  for (EdgeLengthPath path : {EdgeLengthPath::kFast, EdgeLengthPath::kLiteral, EdgeLengthPath::kEq30}) {
     Mesh m = randomTet(rng);
     const Eigen::Vector3d along = m.fibreFrame[0].col(0), across = m.fibreFrame[0].col(1);
     const std::vector<Material> aniso = {Material::transverselyIsotropic(3e4, 0.3, 1.2e5, 0.3, 1e3)};
@@ -189,9 +221,26 @@ TEST(EdgeLength, PathNamesParse) {
   EdgeLengthPath p;
   ASSERT_TRUE(parseEdgeLengthPath("literal", p));
   EXPECT_EQ(p, EdgeLengthPath::kLiteral);
+  ASSERT_TRUE(parseEdgeLengthPath("eq30", p));
+  EXPECT_EQ(p, EdgeLengthPath::kEq30);
   ASSERT_TRUE(parseEdgeLengthPath("fast", p));
   EXPECT_EQ(p, EdgeLengthPath::kFast);
   EXPECT_FALSE(parseEdgeLengthPath("Fast ", p));
+}
+
+// A scene selects the Eq 30 path the way it selects the literal one: edge_length {path: eq30}.
+TEST(EdgeLength, SceneKeySelectsEachPath) {
+  std::mt19937 rng(13);
+  const Mesh m = boxMesh(1, 1, 1, 0.01, rng);
+  const std::string origin = "test_edge_length";
+  for (const auto& [name, expected] : {std::pair<std::string, EdgeLengthPath>{"fast", EdgeLengthPath::kFast},
+                                       {"literal", EdgeLengthPath::kLiteral},
+                                       {"eq30", EdgeLengthPath::kEq30}}) {
+    const YAML::Node spec = YAML::Load("{type: edge_length, path: " + name + "}");
+    const auto model = registry().makeForceModel(YamlEntry(spec, "", &origin),
+                                                 ModelContext{m, testMaterials(), {}});
+    EXPECT_EQ(dynamic_cast<const EdgeLengthModel&>(*model).path(), expected) << name;
+  }
 }
 
 }  // namespace

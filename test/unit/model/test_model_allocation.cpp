@@ -67,6 +67,7 @@ TEST(ModelAllocation, EvaluationLoopsDoNotAllocate) {
   std::vector<std::unique_ptr<ForceModel>> models;
   models.push_back(std::make_unique<EdgeLengthModel>(m, mats, EdgeLengthPath::kFast));
   models.push_back(std::make_unique<EdgeLengthModel>(m, mats, EdgeLengthPath::kLiteral));
+  models.push_back(std::make_unique<EdgeLengthModel>(m, mats, EdgeLengthPath::kEq30));
   models.push_back(std::make_unique<StvkDisplacementModel>(m, mats, AlphaSign::kCorrect));
   models.push_back(std::make_unique<StvkDisplacementModel>(m, mats, AlphaSign::kPaperLiteral));
   models.push_back(std::make_unique<TensorMassModel>(m, mats));

@@ -52,6 +52,10 @@ struct RadauOptions {
   double maxStep = 1e30;     // s
   double minStep = 1e-14;    // s; smaller steps fail the frame
   int maxNewtonIterations = 7;
+  // > 0: the Newton iteration stops when its predicted remaining error (weighted norm) is
+  // below this; <= 0 (default): Hairer and Wanner's max(10 eps / rtol, min(0.03, sqrt(rtol)))
+  // with their internal rtol, which their RADAU5 code uses.
+  double newtonTolerance = 0.0;
   int maxStepsPerFrame = 100000;  // step attempts
   // The step-size controller (ErrorStepControl, step_control.h):
   double safety = 0.9;       // step size safety factor

@@ -3,11 +3,15 @@
 // the translation-invariant, transversely isotropic St Venant-Kirchhoff tetrahedron written
 // with edge lengths (Eqs 29 and 31; Eq 24's lambda^T, mu^T read as lambda^L, mu^L, and V, A_j,
 // K_jk taken at rest).
-// Two evaluation paths of the same polynomial:
+// Three evaluation paths of the same polynomial:
 //   kFast    : F, E, S (stvk_kernel.h), the cheapest way to evaluate it;
 //   kLiteral : the packed single-sum force of Eq 31 and the energy of Eqs 28-29, from rest
-//              K_jk (Eq 20), face areas A_j, alpha_j = g_j and the deformed squared edge lengths.
-// Both give energy V0 W and physical force -V0 F_p (the printed W is an energy density and
+//              K_jk (Eq 20), face areas A_j, alpha_j = g_j and the deformed squared edge lengths;
+//   kEq30    : the unpacked force of Eq 30 (sums over the 3 edges j-p at node p and the 3
+//              edges j-k opposite it; line 4's K_jkm read as K_jkmp, Eq 21), with the literal
+//              path's constants and energy. The paper finds Eq 31 about 35 % faster
+//              (bench_forces measures both).
+// All give energy V0 W and physical force -V0 F_p (the printed W is an energy density and
 // the printed F_p its positive gradient) and share the analytic stiffness.
 #include <array>
 #include <string>
@@ -19,12 +23,12 @@
 
 namespace tt {
 
-enum class EdgeLengthPath { kFast, kLiteral };
+enum class EdgeLengthPath { kFast, kLiteral, kEq30 };
 
-// "fast" or "literal"; returns false for anything else.
+// "fast", "literal" or "eq30"; returns false for anything else.
 bool parseEdgeLengthPath(const std::string& name, EdgeLengthPath& path);
 
-// Rest constants of one tet for the literal path (edges ordered 01 02 03 12 13 23).
+// Rest constants of one tet for the literal and Eq 30 paths (edges ordered 01 02 03 12 13 23).
 struct EdgeLengthLiteralTet {
   std::array<double, 6> restSq;   // l_jk^2
   std::array<double, 6> K;        // K_jk, Eq 20
@@ -40,6 +44,8 @@ EdgeLengthLiteralTet makeEdgeLengthLiteralTet(const Eigen::Matrix3Xd& rest, cons
                                               const Eigen::Vector3d& fibre, const Material& m);
 // Eq 31 (positive gradient of the density W w.r.t. the deformed positions, columns p).
 Matrix34d edgeLengthLiteralGradient(const Matrix34d& xe, const EdgeLengthLiteralTet& t);
+// Eq 30, the same gradient unpacked into two sums.
+Matrix34d edgeLengthEq30Gradient(const Matrix34d& xe, const EdgeLengthLiteralTet& t);
 // Eqs 28-29: the density W.
 double edgeLengthLiteralDensity(const Matrix34d& xe, const EdgeLengthLiteralTet& t);
 
@@ -70,7 +76,7 @@ class EdgeLengthModel : public ForceModel {
  private:
   std::vector<Tet> tets_;
   std::vector<StvkTet> stvk_;
-  std::vector<EdgeLengthLiteralTet> literal_;  // filled only for the literal path
+  std::vector<EdgeLengthLiteralTet> literal_;  // filled only for the literal and Eq 30 paths
   EdgeLengthPath path_;
   bool psdProjection_ = false;
 };
