@@ -189,7 +189,9 @@ std::string StabilityGuard::attempt(System& system, double frameTime, int depth,
     if (i == 0) pieceStart_ = frameBalance_;
     else std::swap(pieceStart_, end_);
     // One piece takes the frame time itself, so that a frame that passes is bit-identical.
+    const double pieceClock = now();
     const StepReport step = inner_->advance(system, pieces == 1 ? frameTime : end - start);
+    notePieceTime(now() - pieceClock);
     addWork(work, step, true);
     std::string problem = step.ok ? check(system, step.lastStep) : "integrator failed: " + step.failure;
     if (!problem.empty())
@@ -209,12 +211,23 @@ std::string StabilityGuard::attempt(System& system, double frameTime, int depth,
   return {};
 }
 
+void StabilityGuard::notePieceTime(double seconds) {
+  constexpr double kNewWeight = 0.2;  // the mean follows a change of cost within a few frames
+  typicalPiece_ = typicalPiece_ == 0.0 ? seconds : (1.0 - kNewWeight) * typicalPiece_ + kNewWeight * seconds;
+}
+
+double StabilityGuard::wallBudget() const {
+  if (params_.wallBudget <= 0.0) return 0.0;
+  return std::max(params_.wallBudget, params_.wallBudgetSteps * typicalPiece_);
+}
+
 std::string StabilityGuard::budgetSpent() const {
-  if (params_.wallBudget <= 0.0) return {};
+  const double budget = wallBudget();
+  if (budget <= 0.0) return {};
   const double used = now() - frameClock_;
-  if (used < params_.wallBudget) return {};
-  return format("the frame's wall-time budget of %.3g ms is spent (%.3g ms)",
-                1e3 * params_.wallBudget, 1e3 * used);
+  if (used < budget) return {};
+  return format("the frame's wall-time budget of %.3g ms is spent (%.3g ms)", 1e3 * budget,
+                1e3 * used);
 }
 
 std::string StabilityGuard::check(const System& system, double lastStep) {

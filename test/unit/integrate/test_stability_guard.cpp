@@ -350,6 +350,46 @@ TEST(StabilityGuard, AWallTimeBudgetEndsTheRetriesOfAFrameThatCannotBeMadeStable
   EXPECT_NEAR(calls.pieces.front(), kFrame / (1 << (r.halvings + 1)), 1e-15);
 }
 
+// Takes 4 ms per call on the simulated wall clock and spoils only a whole-frame step: the frame
+// passes once it is halved.
+class SlowAndSpoilsWholeFrames : public Integrator {
+ public:
+  explicit SlowAndSpoilsWholeFrames(double& clock) : clock_(clock) {}
+  const char* name() const override { return "slow_and_spoils_whole_frames"; }
+  StepReport advance(System& system, double frameTime) override {
+    clock_ += kPieceWallTime;
+    system.state.t += frameTime;
+    if (frameTime > 0.75 * kFrame) system.state.v[0] = std::nan("");
+    return {};
+  }
+
+ private:
+  double& clock_;
+};
+
+// Where one step takes longer than the fixed budget (a large mesh), a budget counted in typical
+// steps still lets the frame that fails be halved.
+TEST(StabilityGuard, ABudgetInTypicalStepsLetsASlowFrameBeHalved) {
+  constexpr double kFixedBudget = 0.001;  // shorter than one 4 ms step
+  auto fixedOnly = stiffBlock(), scaled = stiffBlock();
+  double clock = 0.0;
+  StabilityGuard fixed(std::make_unique<SlowAndSpoilsWholeFrames>(clock), withClock(clock, kFixedBudget));
+  const StepReport failed = fixed.advance(*fixedOnly, kFrame);
+  EXPECT_FALSE(failed.ok);
+  EXPECT_EQ(failed.halvings, 0);
+  EXPECT_NE(failed.failure.find("wall-time budget of 1 ms is spent"), std::string::npos) << failed.failure;
+
+  StabilityGuardParams p = withClock(clock, kFixedBudget);
+  p.wallBudgetSteps = 3.0;
+  StabilityGuard steps(std::make_unique<SlowAndSpoilsWholeFrames>(clock), p);
+  const StepReport halved = steps.advance(*scaled, kFrame);
+  EXPECT_TRUE(halved.ok) << halved.failure;
+  EXPECT_EQ(halved.halvings, 1);
+  EXPECT_NEAR(scaled->state.t, kFrame, 1e-15);
+  EXPECT_NEAR(steps.wallBudget(), 3 * kPieceWallTime, 1e-12);  // every piece took 4 ms
+  EXPECT_NEAR(halved.wallSeconds, 3 * kPieceWallTime, 1e-9);   // 1 + 2 pieces
+}
+
 // A frame that starts deep (after one the budget ended) and passes, but whose pieces take
 // longer than the budget: it ends early with the pieces it made instead of stalling the node.
 TEST(StabilityGuard, AFrameThatStartsDeepEndsEarlyWithinTheBudgetAndKeepsItsPieces) {

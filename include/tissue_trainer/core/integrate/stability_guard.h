@@ -48,7 +48,7 @@
 // sum, which still forgets a little; a state changed from outside between frames restarts it.
 //
 // Real time: with a wall-clock budget per frame (wallBudget > 0; the simulation node gives it a
-// few frame periods) the guard starts no further attempt, and stops an attempt other than the
+// few frame periods, or as many typical steps where one step takes longer) the guard starts no further attempt, and stops an attempt other than the
 // frame's first between its pieces, once the frame has used the budget: the frame then fails
 // as above (state restored),
 // so that a frame it cannot make stable costs the node a few periods, not seconds, and the
@@ -80,6 +80,10 @@ struct StabilityGuardParams {
   double minVolumeRatio = 0.01;  // a tet at or below this fraction of its rest volume fails
   int relaxAfter = 25;           // frames passed at once before the step is doubled again
   double wallBudget = 0.0;       // s of wall-clock time per frame for the retries; 0: none
+  // With a budget, it is at least this many times the wall time one piece (one inner step)
+  // typically takes (a running mean over the pieces made), so that where one step costs more
+  // than wallBudget a frame that fails can still be halved once instead of failing at once.
+  double wallBudgetSteps = 0.0;
   // Seconds on a monotonic clock; empty: std::chrono::steady_clock. Tests give a simulated
   // clock, so that what the budget does does not depend on how busy the machine is.
   std::function<double()> wallClock;
@@ -107,7 +111,12 @@ class StabilityGuard : public Integrator {
 
   Integrator& inner() { return *inner_; }
   const StabilityGuardParams& params() const { return params_; }
-  void setWallBudget(double seconds) { params_.wallBudget = seconds; }
+  void setWallBudget(double seconds, double steps = 0.0) {
+    params_.wallBudget = seconds;
+    params_.wallBudgetSteps = steps;
+  }
+  // The frame's budget now: max(wallBudget, wallBudgetSteps x the typical piece); 0: none.
+  double wallBudget() const;
   const GuardStats& stats() const { return stats_; }
 
  private:
@@ -141,6 +150,7 @@ class StabilityGuard : public Integrator {
   std::string attempt(System& system, double frameTime, int depth, StepReport& work);
   // The budget's verdict: empty while wall time is left (or there is no budget).
   std::string budgetSpent() const;
+  void notePieceTime(double seconds);
   std::string check(const System& system, double lastStep);
   std::string checkFinite(const State& s) const;
   std::string checkVolumes(const System& system) const;
@@ -174,6 +184,7 @@ class StabilityGuard : public Integrator {
   double loadRate_ = 0.0;  // L = 1/2 sum f^2 / m of the body loads and external force (J/s^2)
   double now() const;
   double frameClock_ = 0.0;  // when this frame began (s, wallClock)
+  double typicalPiece_ = 0.0;  // running mean of one piece's wall time (s)
   bool stoppedForBudget_ = false;  // the last attempt stopped between pieces for the budget
   double cutShortAt_ = 0.0;  // NaN, or where the last attempt ended its frame early (s)
 };
