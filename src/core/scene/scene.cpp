@@ -550,7 +550,7 @@ Scene loadScene(const std::string& path) {
   if (top.has("run")) {
     const YamlEntry run = top["run"];
     run.expectMap({"frame_time", "duration", "stop_kinetic_energy", "stop_not_before",
-                   "max_frame_time"});
+                   "max_frame_time", "settle_time"});
     scene.frameTime = run.positive("frame_time", scene.frameTime);
     scene.duration = run.positive("duration", scene.duration);
     scene.kineticEnergyStop = readKineticEnergyStop(run);
@@ -564,6 +564,12 @@ Scene loadScene(const std::string& path) {
         e.fail(text);
       }
       scene.maxFrameTime = longest;
+    }
+    if (run.has("settle_time")) {
+      const YamlEntry e = run["settle_time"];
+      scene.settleTime = e.number();
+      if (!(scene.settleTime >= 0.0 && std::isfinite(scene.settleTime)))
+        e.fail("expected a simulated time >= 0 (s)");
     }
   }
   if (top.has("boundary"))

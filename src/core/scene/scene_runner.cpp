@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 
 #include "tissue_trainer/core/mesh/mesh_io.h"
 #include "tissue_trainer/core/mesh/quality.h"
@@ -194,6 +195,29 @@ RunSummary runScene(Scene& scene, const RunOptions& options) {
     for (const auto& entry : vtuFiles)
       summary.files.push_back((fs::path(options.outDir) / entry.second).string());
   }
+  return summary;
+}
+
+SettleSummary settleScene(Scene& scene, double seconds, double frame) {
+  if (!(std::isfinite(frame) && frame > 0.0))
+    throw std::invalid_argument("settle: expected a frame > 0 (s), got " + std::to_string(frame));
+  if (!(std::isfinite(seconds) && seconds >= 0.0))
+    throw std::invalid_argument("settle: expected a time >= 0 (s), got " + std::to_string(seconds));
+  SettleSummary summary;
+  const auto start = std::chrono::steady_clock::now();
+  const double t0 = scene.system.state.t, end = t0 + seconds;
+  while (scene.system.state.t < end - 1e-12) {
+    const double step = std::min(frame, end - scene.system.state.t);
+    const StepReport report = scene.integrator->advance(scene.system, step);
+    ++summary.frames;
+    if (!report.ok) {
+      summary.ok = false;
+      summary.failure = report.failure;
+      break;
+    }
+  }
+  summary.simulatedTime = scene.system.state.t - t0;
+  summary.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
 }
 

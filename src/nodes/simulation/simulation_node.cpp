@@ -132,6 +132,7 @@ bool SimulationNode::start() {
     return false;
   }
   resumeIfRestarted();
+  if (resumedAt_ < 0.0) settle();
   if (nh_.hasParam("robot_description")) {
     std::string xml;
     if (!nh_.getParam("robot_description", xml)) {
@@ -172,6 +173,19 @@ bool SimulationNode::start() {
   return true;
 }
 
+void SimulationNode::settle() {
+  if (scene_.settleTime <= 0.0) return;
+  const tt::SettleSummary s = tt::settleScene(scene_, scene_.settleTime, frameClock_->maxStep());
+  if (s.ok)
+    ROS_INFO("simulation: settled the tissue for %.3g s of simulated time in %d frames (%.2f s)",
+             s.simulatedTime, s.frames, s.wallSeconds);
+  else
+    ROS_WARN("simulation: settling stopped after %.3g s of simulated time: %s", s.simulatedTime,
+             s.failure.c_str());
+  initialState_ = scene_.system.state;  // ~reset returns here
+  frameClock_->restart();
+}
+
 void SimulationNode::readRobotDescription() {
   std::string xml;
   if (!nh_.getParam("robot_description", xml)) return;
@@ -208,9 +222,10 @@ void SimulationNode::loadScene(const std::string& path) {
   scene_ = std::move(loaded);
   for (const std::string& note : scene_.notes) ROS_INFO("scene: %s", note.c_str());
   initialState_ = scene_.system.state;
-  // Real time: a frame the guard cannot make stable may take guard_budget periods, no more.
+  // Real time: a frame the guard cannot make stable may take guard_budget periods, or as many
+  // typical steps where one step takes longer than a period (so that it can still be halved).
   if (auto* guard = dynamic_cast<tt::StabilityGuard*>(scene_.integrator.get()))
-    guard->setWallBudget(params_.guardBudget / params_.rate);
+    guard->setWallBudget(params_.guardBudget / params_.rate, params_.guardBudget);
   fingerprint_ = tt::sceneFingerprint(scene_.name, scene_.system.mesh);
   display_ = tt::DisplaySurface(scene_);
   meter_ = tt::FrameMeter(scene_.system);
@@ -573,6 +588,7 @@ bool SimulationNode::onLoadScene(tissue_trainer::LoadScene::Request& req,
                                  tissue_trainer::LoadScene::Response& res) {
   try {
     loadScene(req.scene_file);
+    settle();
   } catch (const std::exception& e) {
     res.success = false;
     res.message = e.what();

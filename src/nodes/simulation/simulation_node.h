@@ -61,6 +61,8 @@ class SimulationNode {
   bool readThreads();  // ~threads, then the core's thread count
   // Replaces the scene (and rebuilds the contact) or throws tt::InputError.
   void loadScene(const std::string& path);
+  // Steps the scene's run.settle_time before real time starts (the tissue at rest).
+  void settle();
   void buildContact();
   // Counts this start in ~starts and, on a restart, continues from the last snapshot.
   void resumeIfRestarted();

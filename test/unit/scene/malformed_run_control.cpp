@@ -43,6 +43,10 @@ TEST(MalformedRunControl, EachBadStopConditionFailsWithOneLine) {
            "run.max_frame_time: expected a finite number"},
           {"longest frame infinite", withRun("{max_frame_time: .inf}"), 5,
            "run.max_frame_time: expected a finite number"},
+          {"negative settle time", withRun("{settle_time: -0.5}"), 5,
+           "run.settle_time: expected a simulated time >= 0 (s)"},
+          {"settle time not a number", withRun("{settle_time: long}"), 5,
+           "run.settle_time: expected a finite number"},
       },
       "bad_run.yaml");
 }

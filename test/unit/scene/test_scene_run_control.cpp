@@ -130,6 +130,33 @@ TEST(RunControl, TheKineticEnergyStopWaitsForItsStartTime) {
   EXPECT_EQ(full.frames, 10);
 }
 
+// run.settle_time: the block released under gravity is stepped to rest before a session
+// starts; frames of at most the given length, the last one shortened to end on the time.
+TEST(RunControl, SettlingStepsTheSceneToRestForItsSettleTime) {
+  Scene scene = loadScene(writeScene("settle.yaml", replaced(kBlock, "duration: 2.0,", "duration: 2.0, settle_time: 0.55,")));
+  EXPECT_EQ(scene.settleTime, 0.55);
+  Scene fresh = loadScene(writeScene("block.yaml", kBlock));
+  EXPECT_EQ(fresh.settleTime, 0.0);
+  const double releasedKinetic = [&] {
+    Scene released = loadScene(writeScene("block.yaml", kBlock));
+    released.integrator->advance(released.system, 0.1);
+    return measureFrame(released.system, 1, {}).kineticEnergy;
+  }();
+
+  const SettleSummary settled = settleScene(scene, scene.settleTime, 0.1);
+  ASSERT_TRUE(settled.ok) << settled.failure;
+  EXPECT_EQ(settled.frames, 6);  // five of 0.1 s and one of 0.05 s
+  EXPECT_NEAR(settled.simulatedTime, 0.55, 1e-12);
+  EXPECT_NEAR(scene.system.state.t, 0.55, 1e-12);
+  const FrameLog after = measureFrame(scene.system, 0, {});
+  EXPECT_GT(after.maxDisplacement, 1e-4);  // it sagged
+  EXPECT_LT(after.kineticEnergy, 1e-3 * releasedKinetic);  // and came to rest
+
+  EXPECT_THROW(settleScene(scene, 0.1, 0.0), std::invalid_argument);
+  EXPECT_THROW(settleScene(scene, -1.0, 0.1), std::invalid_argument);
+  EXPECT_EQ(settleScene(scene, 0.0, 0.1).frames, 0);
+}
+
 TEST(RunControl, AnInterruptEndsTheRunAfterTheFrameWithEveryOutput) {
   Scene scene = loadScene(writeScene("block.yaml", kBlock));
   RunOptions options;

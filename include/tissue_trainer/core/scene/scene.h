@@ -46,6 +46,9 @@ struct Scene {
   // Longest frame the simulation node takes to keep up with wall time (run.max_frame_time,
   // >= frameTime); unset: the node's default (real_time_clock.h, docs/scene_format.md).
   std::optional<double> maxFrameTime;
+  // Simulated time the simulation node steps the scene before it starts in real time, so that
+  // a session starts with the tissue at rest under its loads (run.settle_time; 0: none).
+  double settleTime = 0.0;
   std::optional<KineticEnergyStop> kineticEnergyStop;  // only when `run` lists it
   SceneOutput output;
   std::optional<ContactSettings> contact;         // only when the scene lists `contact`

@@ -55,4 +55,18 @@ struct RunSummary {
 FrameLog measureFrame(const System& system, int frame, const StepReport& step);
 RunSummary runScene(Scene& scene, const RunOptions& options);
 
+struct SettleSummary {
+  int frames = 0;
+  double simulatedTime = 0.0;  // s advanced
+  double wallSeconds = 0.0;
+  bool ok = true;
+  std::string failure;  // the first failed frame's (its restored state is kept)
+};
+
+// Steps the scene for `seconds` of simulated time in frames of at most `frame` s, with nothing
+// else changing: the settling of scene key run.settle_time, so that a session starts with the
+// tissue at rest under its loads instead of dropping at the trainee's first touch. Stops at
+// the first failed frame. Throws std::invalid_argument unless frame > 0 and seconds >= 0.
+SettleSummary settleScene(Scene& scene, double seconds, double frame);
+
 }  // namespace tt
