@@ -171,7 +171,7 @@ def load_runs(rows):
 COLOURS = {"newtonian": "tab:blue", "symplectic_euler": "tab:cyan", "explicit_euler": "tab:gray",
            "backward_euler": "tab:orange", "backward_euler_newton": "tab:red",
            "radau_iia": "tab:green", "static_newton": "tab:purple",
-           "backward_euler_adaptive": "tab:brown", "abm3": "tab:olive",
+           "backward_euler_adaptive": "tab:brown", "abm3": "tab:olive", "rk4_adaptive": "gold",
            "quasistatic": "tab:pink", "quasistatic_cholesky": "darkviolet"}
 MARKERS = {"edge_length": "o", "edge_length_literal": "s", "stvk_displacement": "^",
            "stvk_displacement_paper_literal": "v", "tensor_mass": "D",

@@ -17,8 +17,9 @@
 //      recovered  the bare run fails, the guarded run passes (the guard's halvings counted);
 //      failed     both fail (the guard ends the run with its message).
 //    -> stability_sweep.csv
-//    The adaptive steppers of the Adamss chapter (abm3, backward_euler_adaptive) run frames of
-//    h with h their first and longest step (makeAdaptiveStepper).
+//    The adaptive steppers (abm3 and backward_euler_adaptive of the Adamss chapter,
+//    rk4_adaptive of Jeffrey's Appendix A) run frames of h with h their first and longest step
+//    (makeAdaptiveStepper); rk4_fixed is the same Runge-Kutta method at fixed steps of h.
 // 2. The explicit limit: for each material the largest step at which symplectic Euler and the
 //    Newtonian scheme stay stable (bisection in log h over 300-step runs), beside the
 //    critical step h_c = L / c ("Adamss: Advanced Anisotropic Mass-Spring System", Eq. 2.150;
@@ -58,6 +59,7 @@
 #include "tissue_trainer/core/integrate/abm3.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/integrate/explicit_euler.h"
+#include "tissue_trainer/core/integrate/rk4_adaptive.h"
 #include "tissue_trainer/core/integrate/newtonian.h"
 #include "tissue_trainer/core/integrate/quasistatic.h"
 #include "tissue_trainer/core/integrate/radau_iia.h"
@@ -139,9 +141,12 @@ bool toleratesInversion(const System& s) {
 // (backward_euler_adaptive: the iteration-count control, GMRES). For them h is the frame: the
 // first step and the longest one (a step is cut to the frame's end); the controller may halve
 // it six times, down to h / 64, as the stability guard does (abm3: a shorter proposal fails
-// the frame; backward Euler keeps its steps at h / 64 whatever they need).
+// the frame; backward Euler keeps its steps at h / 64 whatever they need). rk4_adaptive
+// ("A non-linear anisotropic Finite Element Method for surgical simulation", Appendix A: step
+// doubling after Numerical Recipes, Sec. 16.2) likewise, with tolerances 1e-6 as abm3.
 
-const std::vector<std::string> kAdaptiveIntegrators = {"backward_euler_adaptive", "abm3"};
+const std::vector<std::string> kAdaptiveIntegrators = {"backward_euler_adaptive", "abm3",
+                                                       "rk4_adaptive"};
 
 bool isAdaptiveStepper(const std::string& name) {
   return std::find(kAdaptiveIntegrators.begin(), kAdaptiveIntegrators.end(), name) !=
@@ -155,6 +160,12 @@ std::unique_ptr<Integrator> makeAdaptiveStepper(const std::string& name, double 
     p.minStep = h / 64.0;
     return std::make_unique<Abm3Integrator>(p);
   }
+  if (name == "rk4_adaptive") {
+    Rk4AdaptiveParams p;
+    p.timeStep = h;
+    p.minStep = h / 64.0;
+    return std::make_unique<Rk4AdaptiveIntegrator>(p);
+  }
   BackwardEulerParams p = bench::jacobiBackwardEuler();  // lower_iterations 10, upper_iterations 40: the defaults
   p.adaptive = true;
   p.linearSolver = BackwardEulerParams::LinearSolver::kGmres;
@@ -166,7 +177,8 @@ std::unique_ptr<Integrator> makeAdaptiveStepper(const std::string& name, double 
 // ---- integrators by name, stepping h ---------------------------------------------------------
 
 const std::vector<std::string> kIntegrators = {"explicit_euler", "symplectic_euler", "newtonian",
-                                               "backward_euler", "radau_iia_fixed", "abm3_fixed"};
+                                               "backward_euler", "radau_iia_fixed", "abm3_fixed",
+                                               "rk4_fixed"};
 
 // Whether the integrator solves with the stiffness (so that a PSD projection changes it).
 bool usesStiffness(const std::string& integrator) {
@@ -199,6 +211,12 @@ std::unique_ptr<Integrator> makeStepper(const std::string& name, double h) {
     p.adaptive = false;
     p.timeStep = h;
     return std::make_unique<Abm3Integrator>(p);
+  }
+  if (name == "rk4_fixed") {  // the classical Runge-Kutta method at fixed steps of h
+    Rk4AdaptiveParams p;
+    p.adaptive = false;
+    p.timeStep = h;
+    return std::make_unique<Rk4AdaptiveIntegrator>(p);
   }
   if (isAdaptiveStepper(name)) return makeAdaptiveStepper(name, h);
   if (name == "quasistatic") return std::make_unique<QuasistaticIntegrator>();  // scene defaults
@@ -537,11 +555,13 @@ void sweepExtremes(bool quick, const std::string& path,
       quick ? std::vector<std::pair<std::string, double>>{{"backward_euler", 1e-3}, {"quasistatic", 0.05}}
             : std::vector<std::pair<std::string, double>>{
                   {"symplectic_euler", 1e-4}, {"newtonian", 1e-4}, {"backward_euler", 1e-3},
-                  {"backward_euler", 1e-2}, {"radau_iia_fixed", 1e-3}, {"abm3_fixed", 1e-4}};
+                  {"backward_euler", 1e-2}, {"radau_iia_fixed", 1e-3}, {"abm3_fixed", 1e-4},
+                  {"rk4_fixed", 1e-4}};
   // The adaptive steppers of the Adamss chapter (frames of h, see makeAdaptiveStepper).
   if (!quick)
     steppers.insert(steppers.end(),
-                    {{"backward_euler_adaptive", 1e-3}, {"abm3", 1e-3}, {"quasistatic", 1e-3}});
+                    {{"backward_euler_adaptive", 1e-3}, {"abm3", 1e-3}, {"rk4_adaptive", 1e-3},
+                     {"quasistatic", 1e-3}});
   models.erase(std::remove_if(models.begin(), models.end(),
                               [&](const std::string& m) { return !bench::selected(onlyModels, m); }),
                models.end());

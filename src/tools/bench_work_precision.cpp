@@ -1,5 +1,6 @@
 // Work-precision benchmark: every elastic force model the factory offers x every integrator x
-// a sweep of step sizes (explicit and backward Euler) or tolerances (Radau IIA), on
+// a sweep of step sizes (explicit and backward Euler) or tolerances (Radau IIA, abm3,
+// rk4_adaptive), on
 //   1. cantilever_static      small deflection under a body load, damped to steady state;
 //                             error against the Euler-Bernoulli tip deflection
 //      cantilever_static_mesh mesh convergence of the same (static Newton, no integrator)
@@ -46,6 +47,7 @@
 #include "tissue_trainer/core/integrate/explicit_euler.h"
 #include "tissue_trainer/core/integrate/newtonian.h"
 #include "tissue_trainer/core/integrate/quasistatic.h"
+#include "tissue_trainer/core/integrate/rk4_adaptive.h"
 #include "tissue_trainer/core/parallel.h"
 #include "muscle_bench_models.h"
 #include "work_precision_csv.h"
@@ -149,6 +151,25 @@ std::vector<IntegratorSpec> abm3Sweep(const Problem& p, bool quick) {
   return specs;
 }
 
+// The classical Runge-Kutta method with step doubling (Jeffrey, Appendix A, after Numerical
+// Recipes Sec. 16.2), the doubling estimate held at the tolerances Radau IIA gets.
+std::vector<IntegratorSpec> rk4AdaptiveSweep(const Problem& p, bool quick) {
+  const std::vector<double> tolerances =
+      quick ? std::vector<double>{1e-3} : std::vector<double>{1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7};
+  std::vector<IntegratorSpec> specs;
+  for (double tol : tolerances) {
+    const RadauOptions radau = radauOptions(p, tol);
+    Rk4AdaptiveParams params;
+    params.absTol = radau.absTol;
+    params.absTolVelocity = radau.absTolVelocity;
+    params.relTol = radau.relTol;
+    params.timeStep = std::min(radau.initialStep, 0.5 * p.stableStep);
+    specs.push_back({"rk4_adaptive", "rtol", tol, p.sampleInterval,
+                     [params] { return std::make_unique<Rk4AdaptiveIntegrator>(params); }});
+  }
+  return specs;
+}
+
 // ---- backward Euler under the iteration-count step control -------------------------------------
 // "Adamss: Advanced Anisotropic Mass-Spring System", Sec. 2.5.5: GMRES, one linearised step, the
 // step halved when the Krylov iterations reach upper_iterations and doubled at lower_iterations
@@ -209,6 +230,7 @@ std::vector<IntegratorSpec> allIntegrators(const Problem& p, bool quick) {
   for (auto& s : backwardEulerSweep(p, quick)) specs.push_back(s);
   for (auto& s : radauSweep(p, quick)) specs.push_back(s);
   for (auto& s : abm3Sweep(p, quick)) specs.push_back(s);
+  for (auto& s : rk4AdaptiveSweep(p, quick)) specs.push_back(s);
   for (auto& s : iterationControlSweep(p, quick)) specs.push_back(s);
   if (p.isStatic)
     for (auto& s : quasistaticSweep(p, quick)) specs.push_back(s);
@@ -358,7 +380,8 @@ Options parseOptions(int argc, char** argv) {
   }
   bench::requireKnown("bench_work_precision", "integrator", o.integrators,
                       {"newtonian", "symplectic_euler", "explicit_euler", "backward_euler",
-                       "backward_euler_newton", "radau_iia", "abm3", "backward_euler_adaptive",
+                       "backward_euler_newton", "radau_iia", "abm3", "rk4_adaptive",
+                       "backward_euler_adaptive",
                        "static_newton", "quasistatic", "quasistatic_cholesky"});
   if (o.quick && !timeLimitGiven) o.timeLimit = 3.0;
   if (o.quick && o.models.empty())

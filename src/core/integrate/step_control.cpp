@@ -123,4 +123,27 @@ double HalvingDoublingControl::afterKeep(double h, const StepMeasure& m, bool) {
   return h;
 }
 
+PowerLawStepControl::PowerLawStepControl(PowerLawStepParams params) : params_(params) {
+  const PowerLawStepParams& p = params_;
+  if (!(p.safety > 0.0 && p.safety <= 1.0) || !(p.growExponent > 0.0) ||
+      !(p.shrinkExponent > 0.0) || !(p.maxGrowth > 1.0) || !(p.maxShrink > 1.0) ||
+      !(p.initialStep > 0.0) || !(p.minStep > 0.0) || !(p.maxStep >= p.minStep))
+    throw std::invalid_argument(
+        "power-law step control: needs 0 < safety <= 1, positive exponents, growth and shrink "
+        "limits > 1 and positive step lengths with min <= max");
+}
+
+double PowerLawStepControl::afterKeep(double h, const StepMeasure& m, bool) {
+  // e = 0 (an exactly polynomial motion) grows by the limit; pow would give infinity.
+  const double growth =
+      m.error > 0.0 ? std::min(params_.maxGrowth, params_.safety * std::pow(m.error, -params_.growExponent))
+                    : params_.maxGrowth;
+  return std::min(h * growth, m.nextStepCap);
+}
+
+double PowerLawStepControl::afterReject(double h, const StepMeasure& m) {
+  const double shrink = params_.safety * std::pow(m.error, -params_.shrinkExponent);
+  return h * std::max(shrink, 1.0 / params_.maxShrink);
+}
+
 }  // namespace tt

@@ -34,6 +34,7 @@ void registerNewtonian(Registry&);
 void registerRadauIIA(Registry&);
 void registerExplicitEuler(Registry&);
 void registerAbm3(Registry&);
+void registerRk4Adaptive(Registry&);
 void registerQuasistatic(Registry&);
 
 void registerBuiltIns(Registry& registry) {
@@ -62,6 +63,7 @@ void registerBuiltIns(Registry& registry) {
   registerRadauIIA(registry);
   registerExplicitEuler(registry);
   registerAbm3(registry);
+  registerRk4Adaptive(registry);
   registerQuasistatic(registry);
 }
 

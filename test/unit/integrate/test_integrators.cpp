@@ -14,6 +14,7 @@
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/integrate/explicit_euler.h"
 #include "tissue_trainer/core/integrate/newtonian.h"
+#include "tissue_trainer/core/integrate/rk4_adaptive.h"
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/scene/registry.h"
 #include "oscillators.h"
@@ -704,6 +705,14 @@ std::vector<Named> allIntegrators() {
        [] { return std::make_unique<ExplicitEulerIntegrator>(ExplicitEulerParams{1e-5}); }},
       {"symplectic_euler",
        [] { return std::make_unique<ExplicitEulerIntegrator>(ExplicitEulerParams{1e-4, true}); }},
+      {"rk4_adaptive", [] { return std::make_unique<Rk4AdaptiveIntegrator>(); }},
+      {"rk4_adaptive fixed steps",
+       [] {
+         Rk4AdaptiveParams p;
+         p.adaptive = false;
+         p.timeStep = 1e-3;
+         return std::make_unique<Rk4AdaptiveIntegrator>(p);
+       }},
   };
 }
 

@@ -8,6 +8,7 @@
 #include <deque>
 #include <functional>
 #include <memory>
+#include <stdexcept>
 #include <vector>
 
 #include "oscillators.h"
@@ -350,6 +351,42 @@ TEST(ErrorStepControl, ProposalsFollowTheErrorWithinTheGrowthAndShrinkLimits) {
   EXPECT_TRUE(c.judge(1.6e-4, m, false));
   EXPECT_DOUBLE_EQ(c.proposedStep(), 2e-4) << "the method's cap";
   EXPECT_THROW(ErrorStepControl(ErrorStepParams{1e-3, 1e-14, 1e30, 0}), std::invalid_argument);
+}
+
+// The rule of "Numerical Recipes", Sec. 16.2: h 0.9 e^-0.2 after a kept step (at most 4 h),
+// h 0.9 e^-0.25 after a rejected one (at least h / 10).
+TEST(PowerLawStepControl, ProposalsFollowTheGrowAndShrinkExponentsWithinTheirLimits) {
+  PowerLawStepParams p;
+  p.initialStep = 1e-3;
+  PowerLawStepControl c(p);
+  c.restart();
+  EXPECT_DOUBLE_EQ(c.proposedStep(), 1e-3);
+  StepMeasure m;
+  m.error = 0.5;
+  EXPECT_TRUE(c.judge(1e-3, m, false));
+  EXPECT_NEAR(c.proposedStep(), 1e-3 * 0.9 * std::pow(0.5, -0.2), 1e-18);
+  m.error = 1.0;  // exactly at the tolerance: kept, the next step 10 % shorter
+  EXPECT_TRUE(c.judge(1e-3, m, false));
+  EXPECT_NEAR(c.proposedStep(), 0.9e-3, 1e-18);
+  m.error = 1e-9;
+  EXPECT_TRUE(c.judge(1e-3, m, false));
+  EXPECT_NEAR(c.proposedStep(), 4e-3, 1e-18) << "growth is limited to 4x";
+  m.error = 0.0;
+  EXPECT_TRUE(c.judge(1e-3, m, false));
+  EXPECT_NEAR(c.proposedStep(), 4e-3, 1e-18) << "a zero error grows by the limit";
+  m.error = 3.0;
+  EXPECT_FALSE(c.judge(1e-3, m, false));
+  EXPECT_NEAR(c.proposedStep(), 1e-3 * 0.9 * std::pow(3.0, -0.25), 1e-18);
+  m.error = 1e9;
+  EXPECT_FALSE(c.judge(1e-3, m, false));
+  EXPECT_NEAR(c.proposedStep(), 1e-4, 1e-18) << "shrinking is limited to 10x";
+  m.error = 1e-9;
+  m.nextStepCap = 2e-3;
+  EXPECT_TRUE(c.judge(1e-3, m, false));
+  EXPECT_NEAR(c.proposedStep(), 2e-3, 1e-18) << "the method's cap";
+  PowerLawStepParams bad;
+  bad.maxGrowth = 1.0;
+  EXPECT_THROW(PowerLawStepControl{bad}, std::invalid_argument);
 }
 
 }  // namespace

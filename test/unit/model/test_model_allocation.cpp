@@ -1,6 +1,6 @@
 // The per-element loops of the tet models (force, energy, stiffness assembly) allocate
-// nothing: global operator new is counted while a model evaluates. The abm3 integrator's
-// step loop is checked here too (the counter can live in one file only).
+// nothing: global operator new is counted while a model evaluates. The step loops of the abm3
+// and rk4_adaptive integrators are checked here too (the counter can live in one file only).
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -8,6 +8,7 @@
 
 #include "../model_test_util.h"
 #include "tissue_trainer/core/integrate/abm3.h"
+#include "tissue_trainer/core/integrate/rk4_adaptive.h"
 #include "tissue_trainer/core/model/adamss/active_tension.h"
 #include "tissue_trainer/core/model/edge_length.h"
 #include "tissue_trainer/core/model/gravity.h"
@@ -167,6 +168,29 @@ TEST(Abm3Allocation, StepLoopDoesNotAllocateAfterTheFirstStep) {
       const long many = allocationsDuring([&] { integrator.advance(s, 4e-4); });
       EXPECT_EQ(many, one) << (adaptive ? "adaptive" : "fixed");
     }
+  }
+}
+
+// The same for the Runge-Kutta method, adaptive (rejections included: the first frame's step
+// is too long for the tolerance) and fixed.
+TEST(Rk4AdaptiveAllocation, StepLoopDoesNotAllocateAfterTheFirstStep) {
+#if !TT_COUNT_MALLOC
+  GTEST_SKIP() << "malloc is not countable in this build";
+#endif
+  std::mt19937 rng(8);
+  const Mesh m = boxMesh(2, 2, 2, 0.01, rng);
+  for (bool adaptive : {false, true}) {
+    System s(m, testMaterials());
+    s.models.push_back(std::make_unique<TensorMassModel>(s.mesh, s.materials));
+    s.state.x = perturbed(m, 0.0005, rng);
+    Rk4AdaptiveParams p;
+    p.adaptive = adaptive;
+    p.timeStep = 1e-5;
+    Rk4AdaptiveIntegrator integrator(p);
+    ASSERT_TRUE(integrator.advance(s, 1e-4).ok);
+    const long one = allocationsDuring([&] { integrator.advance(s, 1e-5); });
+    const long many = allocationsDuring([&] { integrator.advance(s, 4e-4); });
+    EXPECT_EQ(many, one) << (adaptive ? "adaptive" : "fixed");
   }
 }
 

@@ -82,7 +82,7 @@ TEST_F(BenchPipeline, WorkPrecisionCsvHasTheColumnsAndEveryProblem) {
   EXPECT_EQ(problems, expected);
   EXPECT_EQ(stableProblems, expected);  // every problem has a run with a finite error
   for (const char* name : {"explicit_euler", "symplectic_euler", "newtonian", "backward_euler",
-                           "backward_euler_newton", "radau_iia", "abm3",
+                           "backward_euler_newton", "radau_iia", "abm3", "rk4_adaptive",
                            "backward_euler_adaptive", "quasistatic", "quasistatic_cholesky"})
     EXPECT_TRUE(integrators.count(name)) << name;
 }
@@ -148,8 +148,10 @@ TEST_F(BenchPipeline, StabilitySweepGridSeparatesStableFromUnstable) {
        "inverted_max", "guard_recoveries", "guard_halvings", "guard_failures", "wall_seconds",
        "guarded_wall_seconds", "failure"});
   int checked = 0;
+  std::set<std::string> integrators;
   for (const auto& r : rows) {
     ASSERT_TRUE(kOutcomes.count(r.at("outcome"))) << r.at("outcome");
+    integrators.insert(r.at("integrator"));
     const double young = std::stod(r.at("young")), step = std::stod(r.at("step"));
     const bool bareFailed = r.at("outcome") != "stable";
     EXPECT_EQ(bareFailed, !r.at("failure").empty()) << "a failed bare run names its failure";
@@ -169,6 +171,8 @@ TEST_F(BenchPipeline, StabilitySweepGridSeparatesStableFromUnstable) {
     if (r.at("outcome") == "recovered") EXPECT_GT(std::stol(r.at("guard_halvings")), 0);
   }
   EXPECT_GE(checked, 12);  // 2 models x 2 Poisson ratios x the 3 cells above
+  for (const char* name : {"backward_euler_adaptive", "abm3", "rk4_adaptive"})
+    EXPECT_TRUE(integrators.count(name)) << name << ": the adaptive steppers are in the grid";
 }
 
 TEST_F(BenchPipeline, StabilitySweepCriticalStepAndExtremeCases) {

@@ -1,14 +1,16 @@
 #pragma once
 // Step-size controllers of the shared frame loop (stepped_integrator.h). A controller says how
 // long the next step is and whether a step that converged is kept, from what the method
-// measured on it (its local error, its iteration count). Three kinds:
+// measured on it (its local error, its iteration count). Four kinds:
 //   FixedStepControl        equal steps per frame (a set count, or a set longest length);
 //   ErrorStepControl        the error-per-step controller of Hairer and Wanner, "Solving
 //                           Ordinary Differential Equations II", Sec. IV.8, with Gustafsson's
 //                           predictive correction (as in RADAU5);
 //   HalvingDoublingControl  halves the step above an upper limit and doubles it at or below a
 //                           lower limit of the error or of the iteration count (the Adamss
-//                           thesis chapter, Secs. 2.5.4 and 2.5.5).
+//                           thesis chapter, Secs. 2.5.4 and 2.5.5);
+//   PowerLawStepControl     the step-doubling rule of Press et al., "Numerical Recipes",
+//                           Sec. 16.2: grow with error^(-1/5), shrink with error^(-1/4).
 #include <limits>
 #include <string>
 
@@ -159,6 +161,44 @@ class HalvingDoublingControl : public StepSizeController {
   double measured(const StepMeasure& m) const;
   double halved(double h) const;
   HalvingDoublingParams params_;
+};
+
+// The rule of "Numerical Recipes", Sec. 16.2, for a fourth-order method whose error is
+// measured by step doubling: with the error e in the weighted norm (1 = at the tolerance), a
+// step with e <= 1 is kept and the next is h safety e^-growExponent, at most maxGrowth h; a
+// step with e > 1 is redone with h safety e^-shrinkExponent, at least h / maxShrink. The two
+// exponents differ because a kept step's error scales as h^5 (the local error of a fourth-order
+// step) while a rejected one is shrunk more cautiously, as if it scaled as h^4.
+struct PowerLawStepParams {
+  double initialStep = 1e-4;  // s, after a restart
+  double minStep = 1e-12;     // s; a shorter proposal fails the frame
+  double maxStep = 1e30;      // s
+  double safety = 0.9;
+  double growExponent = 0.2;
+  double shrinkExponent = 0.25;
+  double maxGrowth = 4.0;
+  double maxShrink = 10.0;
+};
+
+class PowerLawStepControl : public StepSizeController {
+ public:
+  // Throws std::invalid_argument for parameters outside 0 < safety <= 1, positive exponents,
+  // growth and shrink limits > 1 and positive steps with minStep <= maxStep.
+  explicit PowerLawStepControl(PowerLawStepParams params = {});
+  const char* name() const override { return "power_law"; }
+  bool adaptive() const override { return true; }
+  double minStep() const override { return params_.minStep; }
+  double maxStep() const override { return params_.maxStep; }
+  const PowerLawStepParams& params() const { return params_; }
+
+ protected:
+  double initialStep() const override { return params_.initialStep; }
+  bool keeps(double, const StepMeasure& m) const override { return m.error <= 1.0; }
+  double afterKeep(double h, const StepMeasure& m, bool lastInFrame) override;
+  double afterReject(double h, const StepMeasure& m) override;
+
+ private:
+  PowerLawStepParams params_;
 };
 
 }  // namespace tt
