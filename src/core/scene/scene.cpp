@@ -472,7 +472,8 @@ void applyBoundary(const YamlEntry& spec, const fs::path& sceneDir, double frame
 }
 
 void applyLoads(const YamlEntry& spec, System& system) {
-  spec.expectMap({"gravity", "rayleigh_mass", "node_damping", "initial_velocity"});
+  spec.expectMap(
+      {"gravity", "rayleigh_mass", "node_damping", "initial_velocity", "initial_displacement"});
   if (spec.has("gravity"))
     system.models.push_back(std::make_unique<GravityModel>(system.mass, spec["gravity"].vector3()));
   if (spec.has("rayleigh_mass")) {
@@ -492,6 +493,15 @@ void applyLoads(const YamlEntry& spec, System& system) {
   if (spec.has("initial_velocity")) {
     const Eigen::Vector3d v0 = spec["initial_velocity"].vector3();
     for (int n = 0; n < system.numNodes(); ++n) system.state.v.segment<3>(3 * n) = v0;
+  }
+  // Ibid., Sec. 2.5.1, Eq. 2.124: the state at t = 0 differs from the initialised (rest) one by
+  // an initial displacement, u_init = u^0 + Delta u. The key gives d = u^0 - u_init = -Delta u,
+  // the displacement of every particle from rest (the boundary's prescription then puts the
+  // constrained DOFs back where it holds them); the forces keep the rest state as reference.
+  if (spec.has("initial_displacement")) {
+    const Eigen::Vector3d d = spec["initial_displacement"].vector3();
+    for (int n = 0; n < system.numNodes(); ++n)
+      system.state.x.segment<3>(3 * n) = system.mesh.rest.col(n) + d;
   }
 }
 

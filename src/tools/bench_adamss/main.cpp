@@ -1,5 +1,6 @@
 // bench_adamss: the verification experiments of "Adamss: Advanced Anisotropic Mass-Spring
-// System" (Sec. 2.8) and its mesh-independence claim (Sec. 2.1.2).
+// System" (Sec. 2.8), its mesh-independence claim (Sec. 2.1.2) and the statements of its
+// discussion (Sec. 2.9).
 //   bench_adamss EXPERIMENT [options]    (bench_adamss --help lists them)
 #include <cstdio>
 #include <cstring>
@@ -24,6 +25,11 @@ const Experiment kExperiments[] = {
     {"scaling", tt::bench_adamss::runScaling, "1000 implicit steps against size (Sec. 2.8.3)"},
     {"mesh_independence", tt::bench_adamss::runMeshIndependence,
      "one stretch on hex and tet meshes (Sec. 2.1.2)"},
+    {"oscillation", tt::bench_adamss::runOscillation,
+     "volume oscillation: explicit, ABM3 and backward Euler (Sec. 2.9.3)"},
+    {"locking", tt::bench_adamss::runLocking, "tet locking against the volume term's p (Sec. 2.9.1)"},
+    {"resolution", tt::bench_adamss::runResolution,
+     "a spring cantilever at three resolutions (Sec. 2.1.4)"},
 };
 
 void printUsage(FILE* out) {

@@ -7,15 +7,24 @@
 // claims a linear relation (time ~ elements^1). The slope of log time against log elements is
 // fitted per preconditioner and thread count (one thread unless --threads asks for more).
 // Medians over repeats (each repeat a fresh system from rest); CPU time is the measure (the
-// wall time of a shared machine is not).
+// wall time of a shared machine is not). Beside the times, counts that do not depend on the
+// machine: the nonzeros of the step's matrix A = M - h^2 K at rest, those of its sparse
+// Cholesky factor (AMD ordering), and the work of a step in multiply-adds,
+// PCG iterations x (nnz A + 2 nnz L) with the Cholesky preconditioner (two triangular solves
+// an iteration; the factorisations, made only when a solve needs more than 15 iterations, left
+// out) and PCG iterations x nnz A with Jacobi.
 //   bench_adamss scaling [--quick] [--out DIR] [--no-plot] [--sizes 3,4,6] [--threads 1,2]
 //                        [--preconditioners jacobi,cholesky] [--steps N] [--repeats N]
 //   -> DIR/scaling.csv, DIR/scaling_fits.csv, scaling.png
+#include <Eigen/SparseCholesky>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <set>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "../bench_support.h"
@@ -39,7 +48,29 @@ struct Sample {
   double wall = 0.0, cpu = 0.0;        // median seconds of `steps` steps
   double linearIterations = 0.0;       // per step, of the median run's kind (all runs equal)
   double wallSpread = 0.0;             // (max - min) / median of the repeats' wall times
+  double matrixNonzeros = 0.0, factorNonzeros = 0.0;
+  // Multiply-adds of the PCG iterations of a step (see the top of the file).
+  double workPerStep() const {
+    const double perIteration =
+        matrixNonzeros + (preconditioner == "cholesky" ? 2.0 * factorNonzeros : 0.0);
+    return linearIterations * perIteration;
+  }
 };
+
+// The nonzeros of A = M - h^2 K at rest (constrained rows and columns identity, full symmetric
+// storage) and of its AMD-ordered Cholesky factor L.
+std::pair<double, double> stepMatrixNonzeros(const System& s) {
+  SparseMatrix A;
+  s.assembleStiffness(s.state.x, A, -kStep * kStep);
+  for (int i = 0; i < A.rows(); ++i) A.coeffRef(i, i) += s.mass[i];
+  s.constrainMatrix(A);
+  const Eigen::SparseMatrix<double> columnMajor = A;
+  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> llt;
+  llt.compute(columnMajor);
+  if (llt.info() != Eigen::Success) return {static_cast<double>(A.nonZeros()), NAN};
+  const Eigen::SparseMatrix<double> L = llt.matrixL();
+  return {static_cast<double>(A.nonZeros()), static_cast<double>(L.nonZeros())};
+}
 
 std::unique_ptr<System> hangingCuboid(int n) {
   Mesh mesh = cuboid(Eigen::Vector3i(n, n, 2 * n), kSize, TetSplit::kNone);
@@ -69,6 +100,7 @@ Sample measure(int n, const std::string& preconditioner, int threads, int steps,
     auto s = hangingCuboid(n);
     sample.elements = s->mesh.numHexes();
     sample.nodes = s->numNodes();
+    std::tie(sample.matrixNonzeros, sample.factorNonzeros) = stepMatrixNonzeros(*s);
     BackwardEulerParams params;
     params.linearTolerance = 1e-8;  // the defaults before docs/solvers.md's measured ones
     params.preconditioner = preconditioning(preconditioner);
@@ -140,34 +172,43 @@ int runScaling(const Args& args) {
 
   FILE* csv = openCsv(o, "scaling.csv");
   std::fprintf(csv, "preconditioner,threads,cells_across,elements,nodes,steps,repeats,"
-                    "wall_seconds,cpu_seconds,wall_spread,linear_iterations_per_step\n");
+                    "wall_seconds,cpu_seconds,wall_spread,linear_iterations_per_step,matrix_nonzeros,"
+                    "factor_nonzeros,work_per_step\n");
   for (const Sample& s : samples)
-    std::fprintf(csv, "%s,%d,%d,%d,%d,%d,%d,%.6g,%.6g,%.4g,%.2f\n", s.preconditioner.c_str(),
-                 s.threads, s.cellsAcross, s.elements, s.nodes, s.steps, s.repeats, s.wall, s.cpu,
-                 s.wallSpread, s.linearIterations);
+    std::fprintf(csv, "%s,%d,%d,%d,%d,%d,%d,%.6g,%.6g,%.4g,%.2f,%.0f,%.0f,%.6g\n",
+                 s.preconditioner.c_str(), s.threads, s.cellsAcross, s.elements, s.nodes, s.steps,
+                 s.repeats, s.wall, s.cpu, s.wallSpread, s.linearIterations, s.matrixNonzeros,
+                 s.factorNonzeros, s.workPerStep());
   std::fclose(csv);
 
   std::map<std::pair<std::string, int>, std::vector<const Sample*>> groups;
   for (const Sample& s : samples) groups[{s.preconditioner, s.threads}].push_back(&s);
   FILE* fits = openCsv(o, "scaling_fits.csv");
-  std::fprintf(fits, "preconditioner,threads,slope_wall,slope_cpu,slope_iterations\n");
+  std::fprintf(fits, "preconditioner,threads,slope_wall,slope_cpu,slope_iterations,"
+                     "slope_matrix_nonzeros,slope_factor_nonzeros,slope_work\n");
   std::printf("\nTime of %d backward Euler steps (h = 1 ms) against hexahedra (Sec. 2.8.3; the "
               "chapter claims linear, slope 1)\n",
               steps);
-  std::printf("%-9s %7s %14s %14s %18s\n", "precond.", "threads", "slope (wall)", "slope (CPU)",
-              "slope (PCG its)");
+  std::printf("%-9s %7s %14s %14s %18s %12s %12s %12s\n", "precond.", "threads", "slope (wall)",
+              "slope (CPU)", "slope (PCG its)", "nnz A", "nnz L", "work");
   for (const auto& [key, group] : groups) {
-    std::vector<double> elements, wall, cpu, iterations;
+    std::vector<double> elements, wall, cpu, iterations, matrix, factor, work;
     for (const Sample* s : group) {
       elements.push_back(s->elements);
       wall.push_back(s->wall);
       cpu.push_back(s->cpu);
       iterations.push_back(std::max(s->linearIterations, 1e-9));
+      matrix.push_back(s->matrixNonzeros);
+      factor.push_back(s->factorNonzeros);
+      work.push_back(std::max(s->workPerStep(), 1e-9));
     }
     const double sw = logLogSlope(elements, wall), sc = logLogSlope(elements, cpu),
-                 si = logLogSlope(elements, iterations);
-    std::fprintf(fits, "%s,%d,%.4f,%.4f,%.4f\n", key.first.c_str(), key.second, sw, sc, si);
-    std::printf("%-9s %7d %14.3f %14.3f %18.3f\n", key.first.c_str(), key.second, sw, sc, si);
+                 si = logLogSlope(elements, iterations), sm = logLogSlope(elements, matrix),
+                 sf = logLogSlope(elements, factor), sk = logLogSlope(elements, work);
+    std::fprintf(fits, "%s,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f\n", key.first.c_str(), key.second,
+                 sw, sc, si, sm, sf, sk);
+    std::printf("%-9s %7d %14.3f %14.3f %18.3f %12.3f %12.3f %12.3f\n", key.first.c_str(),
+                key.second, sw, sc, si, sm, sf, sk);
   }
   std::fclose(fits);
   drawPlot("scaling", o);

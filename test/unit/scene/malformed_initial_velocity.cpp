@@ -1,4 +1,4 @@
-// Malformed loads.initial_velocity: one error line naming the file, line and key.
+// Malformed loads.initial_velocity and loads.initial_displacement: one error line naming the file, line and key.
 #include <gtest/gtest.h>
 
 #include "scene_test_util.h"
@@ -22,7 +22,11 @@ TEST(MalformedInitialVelocity, OneLineNamingTheKey) {
        {"not a number", scene("loads: {initial_velocity: [0, fast, 0]}"), 5,
         "loads.initial_velocity[1]"},
        {"misspelt", scene("loads: {initial_velocity: [0, 0, 0], inital_velocity: [0, 0, 1]}"), 5,
-        "loads.inital_velocity: unknown key"}},
+        "loads.inital_velocity: unknown key"},
+       {"displacement, two numbers", scene("loads: {initial_displacement: [0, 1]}"), 5,
+        "loads.initial_displacement: expected a list of 3 numbers"},
+       {"displacement, not a number", scene("loads: {initial_displacement: [0, far, 0]}"), 5,
+        "loads.initial_displacement[1]"}},
       "bad_initial_velocity.yaml");
 }
 
