@@ -142,7 +142,7 @@ class StabilityGuard : public Integrator {
   // The budget's verdict: empty while wall time is left (or there is no budget).
   std::string budgetSpent() const;
   std::string check(const System& system, double lastStep);
-  std::string checkFinite(const State& s) const;
+  std::string checkFinite(const System& system) const;
   std::string checkVolumes(const System& system) const;
   std::string checkEnergy(const System& system, double lastStep);
   // Adds the frame that passed (its last energy check) to the carried excess.
