@@ -161,7 +161,8 @@ int printTongueTargets() {
   const std::vector<Eigen::Vector3d> y =
       tt::bench::tongueTruthLandmarks(scene, landmarks, tongueTruths()[0]);
   for (size_t l = 0; l < landmarks.size(); ++l)
-    std::printf("node %d %.9f %.9f %.9f\n", landmarks[l].nodes[0], y[l][0], y[l][1], y[l][2]);
+    std::printf("node %d %.9f %.9f %.9f\n", scene.system.mesh.numbering.nodeToFile(landmarks[l].nodes[0]),
+                y[l][0], y[l][1], y[l][2]);
   return 0;
 }
 

@@ -18,7 +18,9 @@
 // time of one factorisation of the system matrix at the start state, per backend, and of one
 // AMG set-up.
 //   bench_implicit_step [--quick] [--sizes 3000,10000,50000,100000] [--csv FILE] [--rows K,...]
+//                       [--node-order rcm|morton|file]
 // --sizes: target tet counts; --rows: the set-ups to run, as 1-based row numbers (default all);
+// --node-order: the scene's mesh.node_order (default: the scene's default, rcm);
 // --quick: 3000 tets, rows 6 and 14, 5 timed steps (a smoke run, not a measurement).
 // TT_BENCH_TRACE=1 prints every step (time, iterations, factors, contact points).
 #include <Eigen/Geometry>
@@ -59,10 +61,12 @@ const std::string kWork = "/tmp/tt_bench_implicit_step";
 std::string refinedLiver(int target, int& tets) { return bench::refinedLiver(kWork, target, tets); }
 
 // The palpation scene with another mesh of the same liver; psd: with the edge-length model's
-// PSD-projected stiffness for the system matrix.
-std::string sceneWithMesh(const std::string& mesh, bool psd = false) {
+// PSD-projected stiffness for the system matrix; nodeOrder: mesh.node_order when not empty.
+std::string sceneWithMesh(const std::string& mesh, const std::string& nodeOrder, bool psd = false) {
   const std::string path = mesh + (psd ? "_psd.yaml" : ".yaml");
   std::vector<bench::SceneEdit> edits;
+  if (!nodeOrder.empty())
+    edits.push_back({"  scale: 0.025", "  node_order: " + nodeOrder + "\n  scale: 0.025"});
   if (psd) edits.push_back({"  - type: edge_length\n", "  - type: edge_length\n    psd_projection: true\n"});
   bench::writeLiverSceneWithMesh(mesh, path, edits);
   return path;
@@ -236,7 +240,7 @@ class Bench {
 int runAll(int argc, char** argv) {
   tools::CommandLine options(argc, argv,
                              "bench_implicit_step [--quick] [--sizes N,N,...] [--csv FILE] "
-                             "[--rows K,K,...]");
+                             "[--rows K,K,...] [--node-order rcm|morton|file]");
   const bool quick = options.flag("--quick");
   using Names = std::vector<std::string>;
   std::vector<int> sizes;
@@ -249,6 +253,9 @@ int runAll(int argc, char** argv) {
   const std::string csvPath = options.text("--csv", "");
   const Names rowList = options.list("--rows", quick ? Names{"6", "14"} : Names{});
   const int stepsOverride = quick ? 5 : 0;
+  const std::string nodeOrder = options.text("--node-order", "");
+  if (!nodeOrder.empty() && nodeOrder != "rcm" && nodeOrder != "morton" && nodeOrder != "file")
+    options.fail("--node-order expects rcm, morton or file, got '" + nodeOrder + "'");
   options.finish();
   FILE* csv = csvPath.empty() ? nullptr : std::fopen(csvPath.c_str(), "w");
   if (!csvPath.empty() && !csv) options.fail("cannot write " + csvPath);
@@ -298,7 +305,7 @@ int runAll(int argc, char** argv) {
     }
     const int steps =
         stepsOverride > 0 ? stepsOverride : target <= 10000 ? 60 : target <= 50000 ? 20 : 10;
-    Bench bench(sceneWithMesh(mesh), sceneWithMesh(mesh, true), steps);
+    Bench bench(sceneWithMesh(mesh, nodeOrder), sceneWithMesh(mesh, nodeOrder, true), steps);
     bench.prepare();
     CholeskyPreconditioner cholmodFactor(false, cholmod), simplicialFactor(false, simplicial);
     AmgPreconditioner warmUp, boomerAmg;  // the first set-up also initialises MPI

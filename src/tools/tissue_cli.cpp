@@ -24,6 +24,7 @@
 #include "tissue_trainer/core/integrate/specimen_loading.h"
 #include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/mesh/mesh_io.h"
+#include "tissue_trainer/core/mesh/mesh_order.h"
 #include "tissue_trainer/core/mesh/quality.h"
 #include "tissue_trainer/core/parallel.h"
 #include "tissue_trainer/core/scene/registry.h"
@@ -294,7 +295,8 @@ Eigen::VectorXd readNodeVectors(const std::string& path, int numNodes, const cha
 // line `stiffness_times` and one line of H d per node, H = d2E/dx2 = -df/dx. Each model gives
 // its stiffness-times-vector product where it has one, else its assembled stiffness times d.
 int printForces(const std::vector<const tt::ForceModel*>& models, const tt::SparsePattern& pattern,
-                const Eigen::VectorXd& x, const Eigen::VectorXd* d) {
+                const Eigen::VectorXd& x, const Eigen::VectorXd* d,
+                const tt::FileNumbering& numbering) {
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(x.size());
   Eigen::VectorXd f = zero;
   double energy = 0.0;
@@ -315,23 +317,30 @@ int printForces(const std::vector<const tt::ForceModel*>& models, const tt::Spar
     }
   }
   std::printf("energy %.17g\n", energy);
-  const int n = static_cast<int>(x.size() / 3);
-  for (int i = 0; i < n; ++i) std::printf("%.17g %.17g %.17g\n", f[3 * i], f[3 * i + 1], f[3 * i + 2]);
+  const auto printRows = [&numbering](const Eigen::VectorXd& v) {
+    const Eigen::VectorXd rows = tt::nodeValuesToFile(numbering, v);
+    for (Eigen::Index i = 0; i < rows.size() / 3; ++i)
+      std::printf("%.17g %.17g %.17g\n", rows[3 * i], rows[3 * i + 1], rows[3 * i + 2]);
+  };
+  printRows(f);
   if (d) {
     std::printf("stiffness_times\n");
-    for (int i = 0; i < n; ++i)
-      std::printf("%.17g %.17g %.17g\n", Hd[3 * i], Hd[3 * i + 1], Hd[3 * i + 2]);
+    printRows(Hd);
   }
   return kOk;
 }
 
-// printForces at the --deformed positions, with the --stiffness-times direction when given.
+// printForces at the --deformed positions, with the --stiffness-times direction when given;
+// both files and the printed rows in the mesh file's node order (a scene's mesh.numbering).
 int printForcesAt(const Arguments& args, const std::vector<const tt::ForceModel*>& models,
-                  const tt::SparsePattern& pattern, int numNodes) {
-  const Eigen::VectorXd x = readNodeVectors(args.text("deformed"), numNodes, "positions");
-  if (!args.has("stiffness-times")) return printForces(models, pattern, x, nullptr);
-  const Eigen::VectorXd d = readNodeVectors(args.text("stiffness-times"), numNodes, "direction");
-  return printForces(models, pattern, x, &d);
+                  const tt::SparsePattern& pattern, int numNodes,
+                  const tt::FileNumbering& numbering = {}) {
+  const Eigen::VectorXd x =
+      tt::nodeValuesFromFile(numbering, readNodeVectors(args.text("deformed"), numNodes, "positions"));
+  if (!args.has("stiffness-times")) return printForces(models, pattern, x, nullptr, numbering);
+  const Eigen::VectorXd d = tt::nodeValuesFromFile(
+      numbering, readNodeVectors(args.text("stiffness-times"), numNodes, "direction"));
+  return printForces(models, pattern, x, &d, numbering);
 }
 
 // The scene's elastic force models (its `force_models`; body loads such as gravity are left
@@ -345,7 +354,7 @@ int forcesOfScene(const Arguments& args) {
   std::vector<const tt::ForceModel*> models;
   for (const auto& m : s.models)
     if (!m->isBodyLoad()) models.push_back(m.get());
-  return printForcesAt(args, models, s.pattern, s.numNodes());
+  return printForcesAt(args, models, s.pattern, s.numNodes(), s.mesh.numbering);
 }
 
 // The flags of the muscle law; the other flag-form models take none of them.

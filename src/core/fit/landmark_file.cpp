@@ -52,7 +52,9 @@ std::vector<Landmark> readLandmarks(const std::string& path, const Mesh& mesh) {
       fail(std::string(isNode ? "node" : "tet") + " index " + tokens[0] + " out of range [0, " +
            std::to_string(count - 1) + "]");
     Landmark l;
-    const int i = static_cast<int>(index);
+    // The file's numbers (mesh.numbering); a tet keeps its local node order, so the weights hold.
+    const int i = isNode ? mesh.numbering.nodeFromFile(static_cast<int>(index))
+                         : mesh.numbering.tetFromFile(static_cast<int>(index));
     if (isNode) {
       l.nodes = {i, i, i, i};
       l.weights = Eigen::Vector4d(1, 0, 0, 0);

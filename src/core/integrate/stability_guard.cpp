@@ -24,8 +24,10 @@ std::string format(const char* pattern, double a, double b = 0.0, double c = 0.0
   return text;
 }
 
-std::string dofName(Eigen::Index dof) {
-  return "DOF " + std::to_string(dof) + " (node " + std::to_string(dof / 3) + " " +
+// In the mesh file's node numbers (mesh.numbering), as the scene and its files name nodes.
+std::string dofName(const Mesh& mesh, Eigen::Index dof) {
+  const int node = mesh.numbering.nodeToFile(static_cast<int>(dof / 3));
+  return "DOF " + std::to_string(3 * node + dof % 3) + " (node " + std::to_string(node) + " " +
          "xyz"[dof % 3] + ")";
 }
 
@@ -76,7 +78,7 @@ StepReport StabilityGuard::advance(System& system, double frameTime) {
   report.guarded = true;
   const Eigen::Index badLoad = firstNonFinite(system.externalForce);
   if (badLoad >= 0) {  // no step can help: fail before touching the state
-    report.guardReason = "non-finite external force at " + dofName(badLoad) +
+    report.guardReason = "non-finite external force at " + dofName(system.mesh, badLoad) +
                          format(" at t = %.9g s", system.state.t);
     report.failure = "stability guard: " + report.guardReason + "; state kept";
     report.ok = false;
@@ -231,17 +233,18 @@ std::string StabilityGuard::budgetSpent() const {
 }
 
 std::string StabilityGuard::check(const System& system, double lastStep) {
-  std::string problem = checkFinite(system.state);
+  std::string problem = checkFinite(system);
   if (problem.empty() && checkVolumes_) problem = checkVolumes(system);
   if (problem.empty()) problem = checkEnergy(system, lastStep);
   return problem;
 }
 
-std::string StabilityGuard::checkFinite(const State& s) const {
+std::string StabilityGuard::checkFinite(const System& system) const {
+  const State& s = system.state;
   if (s.x.allFinite() && s.v.allFinite()) return {};
   const Eigen::Index x = firstNonFinite(s.x);
-  if (x >= 0) return "non-finite position at " + dofName(x);
-  return "non-finite velocity at " + dofName(firstNonFinite(s.v));
+  if (x >= 0) return "non-finite position at " + dofName(system.mesh, x);
+  return "non-finite velocity at " + dofName(system.mesh, firstNonFinite(s.v));
 }
 
 std::string StabilityGuard::checkVolumes(const System& system) const {
@@ -252,8 +255,9 @@ std::string StabilityGuard::checkVolumes(const System& system) const {
       corrupt.begin(), corrupt.end(), [](const CorruptElement& a, const CorruptElement& b) {
         return a.volumeRatio < b.volumeRatio;
       });
+  // The tet's number in the mesh file (mesh.numbering), which the user can look up.
   const std::string element =
-      !worst.hex ? "tet " + std::to_string(worst.index)
+      !worst.hex ? "tet " + std::to_string(system.mesh.numbering.tetToFile(worst.index))
                  : "hex " + std::to_string(worst.index) + " (tet " +
                        std::to_string(worst.subTet % 6) + " of its " +
                        (worst.subTet < 6 ? "six" : "five") + "-tet split)";

@@ -60,7 +60,8 @@ std::vector<MuscleGroup> readGroups(const YamlEntry& list, Mesh& mesh) {
     g.elements = regionElements(item["region"], mesh);
     for (int e : g.elements) {
       if (owner[e] >= 0)
-        item["region"].fail("expected elements of no other muscle: element " + std::to_string(e) +
+        item["region"].fail("expected elements of no other muscle: element " +
+                            std::to_string(elementToFile(mesh, e)) +
                             " is also in muscle '" + groups[owner[e]].name +
                             "' (muscles may not overlap)");
       owner[e] = static_cast<int>(k);

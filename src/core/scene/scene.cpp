@@ -13,6 +13,7 @@
 #include "tissue_trainer/core/material/elastic_constants_reader.h"
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/mesh/mesh_io.h"
+#include "tissue_trainer/core/mesh/mesh_order.h"
 #include "tissue_trainer/core/mesh/node_tags.h"
 #include "tissue_trainer/core/mesh/quality.h"
 #include "tissue_trainer/core/model/gravity.h"
@@ -135,11 +136,21 @@ void handleFlatTets(const YamlEntry& spec, Mesh& mesh, std::vector<std::string>&
   notes.push_back("dropped " + what);
 }
 
+// mesh.node_order of a mesh file: rcm (default), morton or file (mesh_order.h). Scene keys,
+// files beside the mesh and messages keep the file's numbers (docs/scene_format.md).
+NodeOrdering readNodeOrdering(const YamlEntry& spec) {
+  if (!spec.has("node_order")) return NodeOrdering::kReverseCuthillMcKee;
+  const std::string order = spec["node_order"].choice({"rcm", "morton", "file"});
+  if (order == "file") return NodeOrdering::kFile;
+  return order == "morton" ? NodeOrdering::kMorton : NodeOrdering::kReverseCuthillMcKee;
+}
+
 Mesh loadMesh(const YamlEntry& spec, const fs::path& sceneDir, std::vector<std::string>& notes,
               Placement& placement) {
   Mesh mesh;
   if (spec.has("file")) {
-    spec.expectMap({"file", "length_unit", "scale", "translate", "rotate_deg", "drop_degenerate"});
+    spec.expectMap({"file", "length_unit", "scale", "translate", "rotate_deg", "drop_degenerate",
+                    "node_order"});
     const YamlEntry fileEntry = spec["file"];
     fs::path file = fileEntry.text();
     if (file.is_relative()) file = sceneDir / file;
@@ -160,6 +171,9 @@ Mesh loadMesh(const YamlEntry& spec, const fs::path& sceneDir, std::vector<std::
   if (mesh.numTets() == 0 && mesh.numHexes() == 0)
     spec.fail("the mesh has no tetrahedra or hexahedra");
   handleFlatTets(spec, mesh, notes);
+  const NodeOrdering ordering =
+      spec.has("file") ? readNodeOrdering(spec) : NodeOrdering::kFile;
+  if (ordering != NodeOrdering::kFile) applyOrder(mesh, localityOrder(mesh, ordering));
   return mesh;
 }
 
@@ -408,8 +422,9 @@ void applyTagFile(const YamlEntry& spec, const fs::path& sceneDir, double frameT
   const std::vector<NodeTagLine> lines = readNodeTagFile(file.string(), system.numNodes());
   std::vector<int> byAxes[8];
   for (const NodeTagLine& tag : lines) {
-    system.mesh.nodeTags[tag.node] |= tag.fixed;
-    if (tag.controlled) byAxes[tag.controlled].push_back(tag.node);
+    const int node = system.mesh.numbering.nodeFromFile(tag.node);
+    system.mesh.nodeTags[node] |= tag.fixed;
+    if (tag.controlled) byAxes[tag.controlled].push_back(node);
   }
   const bool controls = std::any_of(lines.begin(), lines.end(),
                                     [](const NodeTagLine& t) { return t.controlled != 0; });

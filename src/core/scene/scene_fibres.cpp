@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "tissue_trainer/core/mesh/fibre_field.h"
+#include "tissue_trainer/core/scene/selection.h"
 
 namespace tt {
 namespace {
@@ -134,7 +135,7 @@ void applyEntry(const YamlEntry& spec, const std::vector<int>& elements, Mesh& m
     if (file.is_relative()) file = *sceneDir / file;
     if (!fs::is_regular_file(file)) fileEntry.fail("fibre file '" + file.string() + "' not found");
     const std::vector<Eigen::Matrix3d> frames = readFibreFile(file.string(), numElements(mesh));
-    for (int e : elements) frameOf(mesh, e) = meshRotation * frames[e];
+    for (int e : elements) frameOf(mesh, e) = meshRotation * frames[elementToFile(mesh, e)];
     return;
   }
   const Eigen::Matrix3d frame = globalFrame(spec);

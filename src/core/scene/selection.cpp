@@ -21,6 +21,14 @@ Eigen::Vector3d elementCentroid(const Mesh& mesh, int e) {
 
 }  // namespace
 
+int elementFromFile(const Mesh& mesh, int e) {
+  return e < mesh.numTets() ? mesh.numbering.tetFromFile(e) : e;
+}
+
+int elementToFile(const Mesh& mesh, int e) {
+  return e < mesh.numTets() ? mesh.numbering.tetToFile(e) : e;
+}
+
 std::vector<int> selectNodes(const YamlEntry& spec, const Mesh& mesh) {
   std::vector<int> nodes;
   const int n = mesh.numNodes();
@@ -48,6 +56,7 @@ std::vector<int> selectNodes(const YamlEntry& spec, const Mesh& mesh) {
     for (size_t k = 0; k < nodes.size(); ++k)
       if (nodes[k] < 0 || nodes[k] >= n)
         list[k].fail("expected a node index in [0, " + std::to_string(n - 1) + "]");
+    for (int& node : nodes) node = mesh.numbering.nodeFromFile(node);
   } else {
     spec.fail("expected one of 'box', 'plane' or 'nodes'");
   }
@@ -73,6 +82,7 @@ std::vector<int> regionElements(const YamlEntry& region, const Mesh& mesh) {
       if (elements[k] < 0 || elements[k] >= count)
         list[k].fail("expected an element index in [0, " + std::to_string(count - 1) + "]");
     if (elements.empty()) list.fail("expected at least one element index");
+    for (int& e : elements) e = elementFromFile(mesh, e);
     std::sort(elements.begin(), elements.end());
     elements.erase(std::unique(elements.begin(), elements.end()), elements.end());
     return elements;

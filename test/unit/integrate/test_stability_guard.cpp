@@ -18,6 +18,7 @@
 #include "tissue_trainer/core/integrate/newtonian.h"
 #include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/mesh/generators.h"
+#include "tissue_trainer/core/mesh/mesh_order.h"
 #include "tissue_trainer/core/model/edge_length.h"
 #include "tissue_trainer/core/model/gravity.h"
 #include "tissue_trainer/core/model/stvk_displacement.h"
@@ -193,8 +194,10 @@ TEST(StabilityGuard, LaterFramesKeepTheShorterStepAndTryALongerOneAfterRelaxAfte
 }
 
 // Two tets sharing face (0, 1, 2): tet 0 above it (node 3), tet 1 below (node 4). Nodes 0-3
-// fixed, node 4 driven up through the face within one frame, which inverts tet 1.
-std::unique_ptr<System> pushThrough(bool linearModel) {
+// fixed, node 4 driven up through the face within one frame, which inverts tet 1. renumbered:
+// the mesh as the scene loader may reorder a file's (mesh_order.h): tets swapped, nodes
+// reversed, the file's numbers kept in mesh.numbering.
+std::unique_ptr<System> pushThrough(bool linearModel, bool renumbered = false) {
   Mesh mesh;
   mesh.rest.resize(3, 5);
   mesh.rest << 0, 1, 0, 0, 0,  //
@@ -204,11 +207,12 @@ std::unique_ptr<System> pushThrough(bool linearModel) {
   mesh.tets = {{0, 1, 2, 3}, {0, 2, 1, 4}};
   mesh.fillDefaults();
   for (int n = 0; n < 4; ++n) mesh.nodeTags[n] = kFixedAll;
+  if (renumbered) applyOrder(mesh, {{4, 3, 2, 1, 0}, {1, 0}});
   auto s = std::make_unique<System>(mesh, std::vector<Material>{Material::isotropic(3e3, 0.4, 1000)});
   if (linearModel) s->models.push_back(std::make_unique<TensorMassModel>(s->mesh, s->materials));
   else s->models.push_back(std::make_unique<EdgeLengthModel>(s->mesh, s->materials));
   ControlledSet set;
-  set.nodes = {4};
+  set.nodes = {s->mesh.numbering.nodeFromFile(4)};
   set.path.times = {0.0, kFrame};
   set.path.offsets = {Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0, 0.015)};
   s->controlled.push_back(set);
@@ -230,6 +234,26 @@ TEST(StabilityGuard, InvertedTetOfAModelThatCannotTakeItFailsTheFrameNamingTheTe
   EXPECT_EQ(guard.stats().failures, 1);
   EXPECT_EQ(guard.stats().halvings, r.halvings);
   EXPECT_GE(r.halvings, 6);
+}
+
+TEST(StabilityGuard, MessageNamesTheTetByItsFileNumberInAReorderedMesh) {
+  auto s = pushThrough(false, true);
+  ASSERT_EQ(s->mesh.numbering.tetFromFile(1), 0);
+  StabilityGuard guard(std::make_unique<BackwardEulerIntegrator>());
+  const StepReport r = guard.advance(*s, kFrame);
+  ASSERT_FALSE(r.ok);
+  EXPECT_NE(r.failure.find("tet 1 inverted or flat"), std::string::npos) << r.failure;
+}
+
+TEST(StabilityGuard, MessageNamesTheDofByItsFileNodeInAReorderedMesh) {
+  auto s = pushThrough(false, true);
+  s->externalForce[3 * s->mesh.numbering.nodeFromFile(4) + 1] =
+      std::numeric_limits<double>::quiet_NaN();
+  StabilityGuard guard(std::make_unique<BackwardEulerIntegrator>());
+  const StepReport r = guard.advance(*s, kFrame);
+  ASSERT_FALSE(r.ok);
+  EXPECT_NE(r.failure.find("non-finite external force at DOF 13 (node 4 y)"), std::string::npos)
+      << r.failure;
 }
 
 TEST(StabilityGuard, LinearModelToleratesTheSameInversion) {

@@ -152,9 +152,10 @@ FitResult LandmarkFit::run(Callback onIteration) {
   return runImpl(onIteration);
 }
 
-// Reads a targets file: one landmark a line, `node N x y z` or `tet T b0 b1 b2 b3 x y z`
-// (barycentric weights >= 0 summing to 1 within 1e-6); blank lines and '#' comments are
-// skipped. Throws InputError naming the file and line for anything else.
+// Reads a targets file: one landmark a line, `node N x y z` or `tet T b0 b1 b2 b3 x y z` (N, T
+// the mesh file's numbers, mesh.numbering; barycentric weights >= 0 summing to 1 within 1e-6);
+// blank lines and '#' comments are skipped. Throws InputError naming the file and line for
+// anything else.
 std::vector<Landmark> readLandmarks(const std::string& path, const Mesh& mesh);
 
 const char* stopName(FitStop stop);

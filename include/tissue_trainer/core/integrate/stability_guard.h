@@ -152,7 +152,7 @@ class StabilityGuard : public Integrator {
   std::string budgetSpent() const;
   void notePieceTime(double seconds);
   std::string check(const System& system, double lastStep);
-  std::string checkFinite(const State& s) const;
+  std::string checkFinite(const System& system) const;
   std::string checkVolumes(const System& system) const;
   std::string checkEnergy(const System& system, double lastStep);
   // Adds the frame that passed (its last energy check) to the carried excess.

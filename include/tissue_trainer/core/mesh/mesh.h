@@ -23,6 +23,19 @@ enum NodeTag : std::uint8_t {
   kControlled = 1u << 3,
 };
 
+// The numbers the nodes and tets had in the mesh's file when the loader reordered them for
+// locality (mesh_order.h); empty vectors: the mesh is in its file's order. Scene keys, files
+// beside the mesh and messages speak the file's numbers; everything else the mesh's.
+struct FileNumbering {
+  std::vector<int> fileNode, meshNode;  // fileNode[n]: file number of node n; meshNode inverse
+  std::vector<int> fileTet, meshTet;    // the same for tets (hexes keep their file order)
+
+  int nodeToFile(int n) const { return fileNode.empty() ? n : fileNode[n]; }
+  int nodeFromFile(int n) const { return meshNode.empty() ? n : meshNode[n]; }
+  int tetToFile(int t) const { return fileTet.empty() ? t : fileTet[t]; }
+  int tetFromFile(int t) const { return meshTet.empty() ? t : meshTet[t]; }
+};
+
 struct Mesh {
   Eigen::Matrix3Xd rest;                // rest positions, one column per node (m)
   std::vector<Tet> tets;                // positively oriented: det[P1-P0, P2-P0, P3-P0] > 0
@@ -35,6 +48,7 @@ struct Mesh {
   std::vector<Eigen::Matrix3d> hexFibreFrame;
   std::vector<int> hexMaterial;
   std::vector<std::uint8_t> nodeTags;   // per node, NodeTag bits
+  FileNumbering numbering;
 
   int numNodes() const { return static_cast<int>(rest.cols()); }
   int numTets() const { return static_cast<int>(tets.size()); }

@@ -9,8 +9,9 @@
 namespace tt {
 namespace {
 
-// `faces`: a list of node-index facets, 3 or 4 nodes each.
-std::vector<adamss::CavityFacet> readFaces(const YamlEntry& list) {
+// `faces`: a list of node-index facets, 3 or 4 nodes each, in the mesh file's numbers (an
+// index out of range stays as it is, for the model's own check to name).
+std::vector<adamss::CavityFacet> readFaces(const YamlEntry& list, const Mesh& mesh) {
   std::vector<adamss::CavityFacet> facets;
   const std::size_t count = list.size();
   for (std::size_t f = 0; f < count; ++f) {
@@ -18,6 +19,8 @@ std::vector<adamss::CavityFacet> readFaces(const YamlEntry& list) {
     facets.push_back(facet.integers());
     if (facets.back().size() != 3 && facets.back().size() != 4)
       facet.fail("expected a facet of 3 or 4 node indices");
+    for (int& node : facets.back())
+      if (node >= 0 && node < mesh.numNodes()) node = mesh.numbering.nodeFromFile(node);
   }
   return facets;
 }
@@ -57,7 +60,7 @@ void registerCavityModel(Registry& registry) {
       spec.fail("expected exactly one of 'faces' (node-index facets) or 'surface' (a selection "
                 "of the mesh's boundary faces)");
     const std::vector<adamss::CavityFacet> facets =
-        spec.has("faces") ? readFaces(spec["faces"]) : readSurface(spec["surface"], context.mesh);
+        spec.has("faces") ? readFaces(spec["faces"], context.mesh) : readSurface(spec["surface"], context.mesh);
     adamss::CavityParameters p;
     const double unit = spec.has("stress_unit") ? stressUnit(spec["stress_unit"]) : 1.0;
     if (spec.has("pressure") && spec["pressure"].node().IsMap()) {
