@@ -184,8 +184,9 @@ bool EquilibriumSolver::lineSearch(const System& system, Eigen::VectorXd& x, dou
 bool EquilibriumSolver::newtonStepBelowRoundOff(const Eigen::VectorXd& x) const {
   constexpr double kUnitsInLastPlace = 32.0;
   const double scale = x.lpNorm<Eigen::Infinity>();
-  return scale > 0.0 && dx_.lpNorm<Eigen::Infinity>() <=
-                            kUnitsInLastPlace * std::numeric_limits<double>::epsilon() * scale;
+  // A step with a NaN must not pass as converged (the max norm may skip the NaN).
+  return scale > 0.0 && dx_.allFinite() &&
+         dx_.lpNorm<Eigen::Infinity>() <= kUnitsInLastPlace * std::numeric_limits<double>::epsilon() * scale;
 }
 
 // The line search compares energies with the one kept from the last force pass; the

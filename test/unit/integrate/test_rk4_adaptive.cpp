@@ -74,7 +74,9 @@ TEST(Rk4Adaptive, FixedStepIsFourthOrderOnUndampedAndDampedOscillators) {
   for (double damping : {0.0, 0.5}) {
     const Oscillators o = harmonic(damping);
     std::vector<double> hs, errs;
-    for (int n : {10, 20, 40, 80}) {
+    // From 80 steps on the error ratio per halving is within 5 % of 16 (at 10-40 steps the damped
+    // case is not yet asymptotic: ratios 6 and 12).
+    for (int n : {80, 160, 320, 640}) {
       System s = o.build();
       Rk4AdaptiveIntegrator integrator(fixedStep(1.0 / n));
       const StepReport r = integrator.advance(s, 1.0);
@@ -85,7 +87,7 @@ TEST(Rk4Adaptive, FixedStepIsFourthOrderOnUndampedAndDampedOscillators) {
       errs.push_back(o.maxError(s));
     }
     const double slope = logSlope(hs, errs);
-    std::printf("[ order    ] rk4 c = %.1f: errors %.3e %.3e %.3e %.3e at h = 1/10 .. 1/80, "
+    std::printf("[ order    ] rk4 c = %.1f: errors %.3e %.3e %.3e %.3e at h = 1/80 .. 1/640, "
                 "slope %.3f\n", damping, errs[0], errs[1], errs[2], errs[3], slope);
     EXPECT_GT(slope, 3.8);
     EXPECT_LT(slope, 4.2);
