@@ -229,14 +229,17 @@ TEST(Simulation, PalpationLoadSceneAndReset) {
   EXPECT_GT(probe.statuses - afterLoad, 20);
   EXPECT_TRUE(probe.contact.in_contact);  // same scene, still pressed
 
-  // Reset: back to the initial state (simulation time restarts).
+  // Reset: back to the initial state, the settled one (simulation time restarts from the
+  // scene's run.settle_time).
+  constexpr double kSettleTime = 0.5;  // config/scenes/liver_palpation.yaml
   probe.run(0.5, [&](double) { return above; });
   const double timeBefore = probe.status.simulation_time;
   std_srvs::Trigger reset;
   ASSERT_TRUE(ros::service::call("simulation/reset", reset));
   EXPECT_TRUE(reset.response.success);
   probe.run(0.3, [&](double) { return above; });
-  EXPECT_LT(probe.status.simulation_time, 0.5);
+  EXPECT_GE(probe.status.simulation_time, kSettleTime);
+  EXPECT_LT(probe.status.simulation_time, kSettleTime + 0.5);
   EXPECT_LT(probe.status.simulation_time, timeBefore);
   EXPECT_FALSE(probe.contact.in_contact);
 
