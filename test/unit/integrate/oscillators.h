@@ -2,9 +2,11 @@
 // Test problems for the integrators: independent per-DOF oscillators, harmonic or Duffing,
 // with a closed-form solution in the harmonic case.
 #include <Eigen/Core>
+#include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <vector>
 
 #include "tissue_trainer/core/system.h"
 
@@ -95,6 +97,18 @@ inline Oscillators harmonic(double c) {
   o.u0 = Eigen::VectorXd::LinSpaced(12, -0.1, 0.12);
   o.v0 = Eigen::VectorXd::LinSpaced(12, 0.3, -0.2);
   return o;
+}
+
+// Least-squares slope of log(y) against log(x): a measured order of accuracy.
+inline double logSlope(const std::vector<double>& x, const std::vector<double>& y) {
+  Eigen::MatrixXd A(x.size(), 2);
+  Eigen::VectorXd b(x.size());
+  for (size_t i = 0; i < x.size(); ++i) {
+    A(i, 0) = std::log(x[i]);
+    A(i, 1) = 1.0;
+    b[i] = std::log(y[i]);
+  }
+  return A.colPivHouseholderQr().solve(b)[0];
 }
 
 }  // namespace oscillators

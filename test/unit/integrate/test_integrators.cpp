@@ -111,17 +111,6 @@ class Poison : public ForceModel {
   bool active = false;
 };
 
-// Least-squares slope of log(error) against log(h).
-double fittedSlope(const std::vector<double>& h, const std::vector<double>& err) {
-  Eigen::MatrixXd A(h.size(), 2);
-  Eigen::VectorXd b(h.size());
-  for (size_t i = 0; i < h.size(); ++i) {
-    A(i, 0) = std::log(h[i]);
-    A(i, 1) = 1.0;
-    b[i] = std::log(err[i]);
-  }
-  return A.colPivHouseholderQr().solve(b)[0];
-}
 
 using Factory = std::function<std::unique_ptr<Integrator>(double h)>;
 
@@ -139,7 +128,7 @@ double measuredOrder(const Oscillators& o, const Factory& make, const char* labe
     hs.push_back(h);
     errs.push_back(o.maxError(s));
   }
-  const double slope = fittedSlope(hs, errs);
+  const double slope = logSlope(hs, errs);
   std::printf("[ order    ] %-34s errors %.3e .. %.3e, slope %.3f\n", label, errs.front(),
               errs.back(), slope);
   return slope;
@@ -239,7 +228,7 @@ TEST(Newtonian, ReportedVelocityIsSecondOrder) {
     hs.push_back(1.0 / n);
     errs.push_back(e);
   }
-  const double slope = fittedSlope(hs, errs);
+  const double slope = logSlope(hs, errs);
   std::printf("[ order    ] newtonian velocity, damped         errors %.3e .. %.3e, slope %.3f\n",
               errs.front(), errs.back(), slope);
   EXPECT_NEAR(slope, 2.0, 0.2);
@@ -280,7 +269,7 @@ TEST(Integrators, OrdersOnANonlinearDampedOscillator) {
       hs.push_back(1.0 / n);
       errs.push_back((s.state.x - restVector(s) - reference).lpNorm<Eigen::Infinity>());
     }
-    const double slope = fittedSlope(hs, errs);
+    const double slope = logSlope(hs, errs);
     std::printf("[ order    ] %-34s errors %.3e .. %.3e, slope %.3f\n", label, errs.front(),
                 errs.back(), slope);
     return slope;
@@ -314,7 +303,7 @@ TEST(Newtonian, VariableStepsKeepSecondOrderOnlyWithTheStepRatio) {
     withEta.push_back(variableStepError(o, n, false));
     equal.push_back(variableStepError(o, n, true));
   }
-  const double slopeEta = fittedSlope(hs, withEta), slopeEqual = fittedSlope(hs, equal);
+  const double slopeEta = logSlope(hs, withEta), slopeEqual = logSlope(hs, equal);
   std::printf("[ order    ] variable steps, Eq 11 with eta: errors %.3e .. %.3e, slope %.3f\n",
               withEta.front(), withEta.back(), slopeEta);
   std::printf("[ order    ] variable steps, eta = 1 form:   errors %.3e .. %.3e, slope %.3f\n",

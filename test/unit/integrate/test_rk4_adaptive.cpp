@@ -26,17 +26,6 @@ namespace {
 
 using namespace oscillators;
 
-// Least-squares slope of log(y) against log(x).
-double logSlope(const std::vector<double>& x, const std::vector<double>& y) {
-  Eigen::MatrixXd A(x.size(), 2);
-  Eigen::VectorXd b(x.size());
-  for (size_t i = 0; i < x.size(); ++i) {
-    A(i, 0) = std::log(x[i]);
-    A(i, 1) = 1.0;
-    b[i] = std::log(y[i]);
-  }
-  return A.colPivHouseholderQr().solve(b)[0];
-}
 
 Rk4AdaptiveParams fixedStep(double h) {
   Rk4AdaptiveParams p;
@@ -372,10 +361,7 @@ boundary:
 run: {frame_time: 0.01, duration: 0.05}
 )";
 
-std::string sceneWith(const std::string& keys) {
-  std::string text = kScene;
-  return text.replace(text.find("KEYS"), 4, keys);
-}
+std::string sceneWith(const std::string& keys) { return testutil::replaced(kScene, "KEYS", keys); }
 
 TEST(Rk4AdaptiveScene, KeysReachTheIntegrator) {
   const std::string keys =
