@@ -132,42 +132,35 @@ std::vector<IntegratorSpec> radauSweep(const Problem& p, bool quick) {
   return specs;
 }
 
-// The Adams-Bashforth-Moulton predictor-corrector with its halving/doubling control, the
-// predictor-corrector difference held at the tolerances Radau IIA gets.
-std::vector<IntegratorSpec> abm3Sweep(const Problem& p, bool quick) {
+// An explicit method with its own error control (abm3: the predictor-corrector difference;
+// rk4_adaptive: the step-doubling estimate), held at the tolerances Radau IIA gets.
+template <class Params, class Method>
+std::vector<IntegratorSpec> explicitAdaptiveSweep(const char* name, const Problem& p, bool quick) {
   const std::vector<double> tolerances =
       quick ? std::vector<double>{1e-3} : std::vector<double>{1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7};
   std::vector<IntegratorSpec> specs;
   for (double tol : tolerances) {
     const RadauOptions radau = radauOptions(p, tol);
-    Abm3Params params;
+    Params params;
     params.absTol = radau.absTol;
     params.absTolVelocity = radau.absTolVelocity;
     params.relTol = radau.relTol;
     params.timeStep = std::min(radau.initialStep, 0.5 * p.stableStep);
-    specs.push_back({"abm3", "rtol", tol, p.sampleInterval,
-                     [params] { return std::make_unique<Abm3Integrator>(params); }});
+    specs.push_back({name, "rtol", tol, p.sampleInterval,
+                     [params] { return std::make_unique<Method>(params); }});
   }
   return specs;
 }
 
+// The Adams-Bashforth-Moulton predictor-corrector with its halving/doubling control.
+std::vector<IntegratorSpec> abm3Sweep(const Problem& p, bool quick) {
+  return explicitAdaptiveSweep<Abm3Params, Abm3Integrator>("abm3", p, quick);
+}
+
 // The classical Runge-Kutta method with step doubling (Jeffrey, Appendix A, after Numerical
-// Recipes Sec. 16.2), the doubling estimate held at the tolerances Radau IIA gets.
+// Recipes Sec. 16.2).
 std::vector<IntegratorSpec> rk4AdaptiveSweep(const Problem& p, bool quick) {
-  const std::vector<double> tolerances =
-      quick ? std::vector<double>{1e-3} : std::vector<double>{1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7};
-  std::vector<IntegratorSpec> specs;
-  for (double tol : tolerances) {
-    const RadauOptions radau = radauOptions(p, tol);
-    Rk4AdaptiveParams params;
-    params.absTol = radau.absTol;
-    params.absTolVelocity = radau.absTolVelocity;
-    params.relTol = radau.relTol;
-    params.timeStep = std::min(radau.initialStep, 0.5 * p.stableStep);
-    specs.push_back({"rk4_adaptive", "rtol", tol, p.sampleInterval,
-                     [params] { return std::make_unique<Rk4AdaptiveIntegrator>(params); }});
-  }
-  return specs;
+  return explicitAdaptiveSweep<Rk4AdaptiveParams, Rk4AdaptiveIntegrator>("rk4_adaptive", p, quick);
 }
 
 // ---- backward Euler under the iteration-count step control -------------------------------------
