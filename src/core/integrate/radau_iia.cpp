@@ -2,7 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
-#include <Eigen/SparseLU>
+#include <Eigen/UmfPackSupport>
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -13,7 +13,7 @@ namespace tt {
 namespace {
 
 using Complex = std::complex<double>;
-using RealMatrix = Eigen::SparseMatrix<double>;      // column-major, for SparseLU
+using RealMatrix = Eigen::SparseMatrix<double>;      // column-major, for UMFPACK
 using ComplexMatrix = Eigen::SparseMatrix<Complex>;  // same structure
 using ComplexVector = Eigen::VectorXcd;
 constexpr double kRoundoff = std::numeric_limits<double>::epsilon();
@@ -119,8 +119,8 @@ struct RadauIIA::Workspace {
   // Linear systems (sigma^2 M - sigma D - K) for sigma = gamma / h and (alpha + i beta) / h.
   RealMatrix realSystem;
   ComplexMatrix complexSystem;
-  Eigen::SparseLU<RealMatrix> realLU;
-  Eigen::SparseLU<ComplexMatrix> complexLU;
+  Eigen::UmfPackLU<RealMatrix> realLU;
+  Eigen::UmfPackLU<ComplexMatrix> complexLU;
   Eigen::VectorXd realDiagonal;     // simplified mode
   ComplexVector complexDiagonal;
   double factoredStep = -1.0;

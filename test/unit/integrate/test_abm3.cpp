@@ -277,7 +277,7 @@ TEST(Abm3, RunsWithEveryForceModel) {
 // ---------------------------------------------------------------------------------------
 // Scene keys.
 
-const char* const kScene = R"(name: abm3_block
+const char* const kAbm3Scene = R"(name: abm3_block
 mesh:
   generator: box
   nodes: [3, 3, 3]
@@ -299,7 +299,7 @@ run: {frame_time: 0.01, duration: 0.05}
 )";
 
 std::string sceneWith(const std::string& keys) {
-  std::string text = kScene;
+  std::string text = kAbm3Scene;
   return text.replace(text.find("KEYS"), 4, keys);
 }
 

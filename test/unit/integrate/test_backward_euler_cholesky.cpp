@@ -23,11 +23,11 @@ using testutil::repelTip;
 using testutil::tight;
 
 
-constexpr auto kJacobi = BackwardEulerParams::Preconditioning::kJacobi;
+constexpr auto kJacobiOnly = BackwardEulerParams::Preconditioning::kJacobi;
 constexpr auto kCholesky = BackwardEulerParams::Preconditioning::kCholesky;
 
 TEST(BackwardEulerCholesky, TakesTheStepsJacobiTakesInFarFewerIterations) {
-  const RunResult jacobi = run(tight(kJacobi), 30);
+  const RunResult jacobi = run(tight(kJacobiOnly), 30);
   const RunResult cholesky = run(tight(kCholesky), 30);  // refactor_iterations 15
   const double travel = (jacobi.x - jacobi.start).lpNorm<Eigen::Infinity>();
   ASSERT_GT(travel, 0.02) << "travel " << travel;  // the beam did deflect (2 cm and more)
@@ -98,7 +98,7 @@ TEST(BackwardEulerCholesky, AnIndefiniteMatrixAwayFromRestIsPreconditionedByTheR
   r.awayFromRestOnly = true;
   s->models.push_back(std::move(repeller));
   const double h = 0.02;
-  BackwardEulerIntegrator jacobiOnly(tight(kJacobi));
+  BackwardEulerIntegrator jacobiOnly(tight(kJacobiOnly));
   for (int i = 0; i < 3; ++i) ASSERT_TRUE(jacobiOnly.advance(*s, h).ok);  // away from rest
   SparseMatrix K;
   s->assembleStiffness(s->state.x, K);
@@ -130,7 +130,7 @@ TEST(BackwardEulerCholesky, ACompressedTissuesStepIsPreconditionedByItsProjected
   const double h = 0.1;
   auto exact = squeezed();
   const Eigen::VectorXd start = exact->state.x;
-  BackwardEulerIntegrator jacobi(tight(kJacobi));
+  BackwardEulerIntegrator jacobi(tight(kJacobiOnly));
   ASSERT_TRUE(jacobi.advance(*exact, h).ok);
   ASSERT_LT(jacobi.diagnostics().lastRelativeResidual, 1e-10);
 

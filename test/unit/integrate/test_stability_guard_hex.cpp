@@ -14,7 +14,7 @@
 namespace tt {
 namespace {
 
-constexpr double kFrame = 1e-3;  // s, one explicit step per frame
+constexpr double kHexFrame = 1e-3;  // s, one explicit step per frame
 
 // One 1 cm StVK hex (E = 100 MPa), every node fixed but the corner (1, 1, 1) cm, which starts
 // moving down at 15 m/s: one step of a frame takes it 1.5 cm down, through the bottom face;
@@ -49,13 +49,13 @@ TEST(StabilityGuardHex, RejectsAStepThatCorruptsAHexNamingIt) {
   ASSERT_GE(node, 0);
   s.state.v[3 * node + 2] = -15.0;
   const State before = s.state;
-  const StepReport r = scene.integrator->advance(s, kFrame);
+  const StepReport r = scene.integrator->advance(s, kHexFrame);
   ASSERT_FALSE(r.ok);
   EXPECT_NE(r.failure.find("hex 0 (tet "), std::string::npos) << r.failure;
   EXPECT_NE(r.failure.find("-tet split) inverted or flat"), std::string::npos) << r.failure;
   EXPECT_EQ(s.state.x, before.x);
   // Unguarded, the same step does corrupt the hex.
-  unguarded(*scene.integrator).advance(s, kFrame);
+  unguarded(*scene.integrator).advance(s, kHexFrame);
   const Eigen::Map<const Eigen::Matrix3Xd> x(s.state.x.data(), 3, s.numNodes());
   EXPECT_FALSE(corruptElements(s.mesh, x).empty());
 }
@@ -66,7 +66,7 @@ TEST(StabilityGuardHex, RecoversWithShorterSteps) {
   const int node = movingNode(s);
   s.state.v[3 * node + 2] = -15.0;
   for (int frame = 0; frame < 3; ++frame) {
-    const StepReport r = scene.integrator->advance(s, kFrame);
+    const StepReport r = scene.integrator->advance(s, kHexFrame);
     ASSERT_TRUE(r.ok) << r.failure;
     if (frame == 0) EXPECT_GT(r.halvings, 0);
     const Eigen::Map<const Eigen::Matrix3Xd> x(s.state.x.data(), 3, s.numNodes());

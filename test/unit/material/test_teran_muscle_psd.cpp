@@ -208,7 +208,7 @@ TeranMuscleLaw::Parameters sampleMuscle(std::mt19937& rng, double activation, bo
   return TeranMuscleLaw::parameters(k, testutil::frameFrom(testutil::randomUnit(rng)));
 }
 
-Eigen::Matrix3d randomRotation(std::mt19937& rng) {
+Eigen::Matrix3d psdRandomRotation(std::mt19937& rng) {
   std::normal_distribution<double> n(0.0, 1.0);
   Eigen::Matrix3d X;
   for (int i = 0; i < 9; ++i) X.data()[i] = n(rng);
@@ -222,7 +222,7 @@ Eigen::Matrix3d randomRotation(std::mt19937& rng) {
 Eigen::Matrix3d gradientWithSingularValues(std::mt19937& rng, double lo, double hi) {
   std::uniform_real_distribution<double> u(lo, hi);
   const Eigen::Vector3d s(u(rng), u(rng), u(rng));
-  return randomRotation(rng) * s.asDiagonal() * randomRotation(rng);
+  return psdRandomRotation(rng) * s.asDiagonal() * psdRandomRotation(rng);
 }
 
 Eigen::Matrix3d randomDirection(std::mt19937& rng) {
@@ -232,7 +232,7 @@ Eigen::Matrix3d randomDirection(std::mt19937& rng) {
   return d;
 }
 
-double relative(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+double psdRelative(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
   return (a - b).lpNorm<Eigen::Infinity>() / std::max(b.lpNorm<Eigen::Infinity>(), 1e-300);
 }
 
@@ -265,7 +265,7 @@ TEST(TeranMusclePaperForms, Eq15StressIsTheLawsStress) {
     for (int deviatoric = 0; deviatoric < 2; ++deviatoric) {
       const auto p = sampleMuscle(rng, trial % 3 == 0 ? 0.0 : 0.7, deviatoric);
       const Eigen::Matrix3d F = gradientWithSingularValues(rng, 0.6, 1.6);
-      const double e = relative(eq15Stress(p, F), TeranMuscleLaw::stress(p, F));
+      const double e = psdRelative(eq15Stress(p, F), TeranMuscleLaw::stress(p, F));
       worst[deviatoric] = std::max(worst[deviatoric], e);
       EXPECT_LT(e, 1e-11) << "deviatoric " << deviatoric;
     }
@@ -283,8 +283,8 @@ TEST(TeranMusclePaperForms, SummaryBlocksAreTheLawsIsotropicTangent) {
     const Eigen::Vector3d s(u(rng), u(rng), u(rng));
     const Matrix9d law = TeranMuscleLaw::tangent(p, Eigen::Matrix3d(s.asDiagonal()));
     const Matrix9d summary = summaryTangent(p.k, s);
-    worst = std::max(worst, relative(summary, law));
-    EXPECT_LT(relative(summary, law), 1e-11) << s.transpose();
+    worst = std::max(worst, psdRelative(summary, law));
+    EXPECT_LT(psdRelative(summary, law), 1e-11) << s.transpose();
     // Off the blocks the law's tangent is zero (to round-off): the block form loses nothing.
     Matrix9d offBlock = law;
     for (int r = 0; r < 9; ++r)
@@ -313,7 +313,7 @@ TEST(TeranMusclePaperForms, SvdFrameStiffnessIsTheLawsDifferential) {
         (apply(summaryTangent(p.k, svd.sigma), dFhat) +
          eq45(p.k, svd.sigma, svd.V.transpose() * p.a0, dFhat, false)) *
         svd.V.transpose();
-    const double e = relative(dP, TeranMuscleLaw::stressDifferential(p, F, dF));
+    const double e = psdRelative(dP, TeranMuscleLaw::stressDifferential(p, F, dF));
     worst = std::max(worst, e);
     EXPECT_LT(e, 1e-10);
   }
@@ -338,7 +338,7 @@ TEST(TeranMusclePsd, DiagonalBlocksEqualsThePapersProjectionAtPoints) {
     for (int d = 0; d < 3; ++d) {
       const Eigen::Matrix3d dF = randomDirection(rng);
       const Eigen::Matrix3d ref = referenceProjectedDifferential(p, F, dF, kThreshold);
-      const double e = relative(apply(A, dF), ref);
+      const double e = psdRelative(apply(A, dF), ref);
       worst = std::max(worst, e);
       EXPECT_LT(e, 1e-8) << "det F " << F.determinant();
     }
@@ -439,7 +439,7 @@ TEST(TeranMusclePsd, DiagonalBlocksLeavesAPsdTangentUnchanged) {
     }
     ++compared;
     const Matrix9d projected = projectedTangent(p, F, diagonalBlocks(kThreshold));
-    const double e = relative(projected, 0.5 * (A + A.transpose()));
+    const double e = psdRelative(projected, 0.5 * (A + A.transpose()));
     worst = std::max(worst, e);
     EXPECT_LT(e, 1e-10) << "deviatoric " << deviatoric;
   }
@@ -461,7 +461,7 @@ TEST(TeranMusclePsd, MethodsDifferOnlyWhereTheTangentIsIndefinite) {
     const auto p = sampleMuscle(rng, 0.9, false);
     std::uniform_real_distribution<double> u(0.3, 1.5), w(-0.8, -0.05);
     const Eigen::Vector3d s(u(rng), u(rng), w(rng));  // det F < 0
-    const Eigen::Matrix3d F = randomRotation(rng) * s.asDiagonal() * randomRotation(rng);
+    const Eigen::Matrix3d F = psdRandomRotation(rng) * s.asDiagonal() * psdRandomRotation(rng);
     const Matrix9d a = projectedTangent(p, F, diagonalBlocks(kThreshold));
     const Matrix9d b = projectedTangent(p, F, eigen);
     const double e = (a - b).norm() / b.norm();
@@ -518,7 +518,7 @@ TEST(TeranMusclePaperForms, FiniteVolumeForcesAreTheElementForces) {
       if (i > 0) Bm.col(i - 1) = b;
     }
     const double V = std::fabs(Dm.determinant()) / 6.0;
-    worstBm = std::max(worstBm, relative(Bm, -V * Dm.inverse().transpose()));
+    worstBm = std::max(worstBm, psdRelative(Bm, -V * Dm.inverse().transpose()));
     const double e = testutil::relDiff(fvm, f);
     worst = std::max(worst, e);
     EXPECT_LT(e, 1e-11);

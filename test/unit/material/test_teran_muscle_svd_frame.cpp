@@ -26,7 +26,7 @@ namespace {
 using Frame = TeranMuscleSvdFrame;
 using Law = TeranMuscleLaw;
 
-constexpr double kThreshold = 0.25;  // PhysBAM's inversion threshold
+constexpr double kSvdThreshold = 0.25;  // PhysBAM's inversion threshold
 constexpr double kRelativeTolerance = 1e-12;
 
 enum class Regime { kModerate, kNearIncompressible, kLargeStretch, kNearlyFlat, kNearRepeated,
@@ -54,9 +54,9 @@ Eigen::Matrix3d randomOrthogonal(std::mt19937& rng, double det) {
   if (Q.determinant() * det < 0) Q.col(0) *= -1.0;
   return Q;
 }
-Eigen::Matrix3d randomRotation(std::mt19937& rng) { return randomOrthogonal(rng, 1.0); }
+Eigen::Matrix3d svdRandomRotation(std::mt19937& rng) { return randomOrthogonal(rng, 1.0); }
 
-Eigen::Vector3d randomUnit(std::mt19937& rng) {
+Eigen::Vector3d svdRandomUnit(std::mt19937& rng) {
   std::normal_distribution<double> n(0.0, 1.0);
   return Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
 }
@@ -94,12 +94,12 @@ Law::Parameters randomMuscle(Regime r, int trial, std::mt19937& rng) {
     std::uniform_real_distribution<double> u(3.0, 4.0);
     p.k.K = p.k.A * std::pow(10.0, u(rng));
   }
-  p.a0 = randomUnit(rng);
+  p.a0 = svdRandomUnit(rng);
   return p;
 }
 
 double maxAbs(const Eigen::MatrixXd& a) { return a.lpNorm<Eigen::Infinity>(); }
-double relative(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+double svdRelative(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
   return maxAbs(a - b) / maxAbs(b);
 }
 
@@ -127,11 +127,11 @@ TEST(TeranMuscleSvdFrame, StressEqualsTheLawsStress) {
     for (int trial = 0; trial < kTrials; ++trial) {
       const Law::Parameters p = randomMuscle(r, trial, rng);
       const Eigen::Matrix3d F =
-          randomRotation(rng) * singularValues(r, rng).asDiagonal() * randomRotation(rng);
+          svdRandomRotation(rng) * singularValues(r, rng).asDiagonal() * svdRandomRotation(rng);
       const RotationSvd svd = rotationSvd(F);
       const Eigen::Matrix3d P = Law::stress(p, F);
       const Eigen::Matrix3d Psvd = Frame::stress(p, svd.U, svd.sigma, svd.V);
-      worst.add(relative(Psvd, P));
+      worst.add(svdRelative(Psvd, P));
       worstInPressureRoundOff.add(maxAbs(Psvd - P) / (std::numeric_limits<double>::epsilon() *
                                                       p.k.K * maxAbs(F.inverse())));
       EXPECT_LE(maxAbs(Psvd - P), stressTolerance(p, F, P))
@@ -162,7 +162,7 @@ TEST(TeranMuscleSvdFrame, StressEqualsTheLawsStressWithReflectedSingularVectors)
     reflected += U.determinant() < 0.0;
     const Eigen::Matrix3d P = Law::stress(p, F);
     const Eigen::Matrix3d Psvd = Frame::stress(p, U, svd.singularValues(), V);
-    worst.add(relative(Psvd, P));
+    worst.add(svdRelative(Psvd, P));
     EXPECT_LE(maxAbs(Psvd - P), stressTolerance(p, F, P));
   }
   EXPECT_GT(reflected, kTrials / 4);
@@ -179,23 +179,23 @@ TEST(TeranMuscleSvdFrame, ClampedStressEqualsTheLawsStressOnInvertedGradients) {
   for (int trial = 0; trial < kTrials; ++trial) {
     const Law::Parameters p = randomMuscle(Regime::kModerate, trial, rng);
     const Eigen::Vector3d s(u(rng), u(rng), w(rng));
-    const Eigen::Matrix3d F = randomRotation(rng) * s.asDiagonal() * randomRotation(rng);
+    const Eigen::Matrix3d F = svdRandomRotation(rng) * s.asDiagonal() * svdRandomRotation(rng);
     ASSERT_LT(F.determinant(), 0.0);
     const RotationSvd svd = rotationSvd(F);
     ASSERT_LT(svd.sigma(2), 0.0);  // the reflection is on the smallest singular value
     EXPECT_TRUE(Frame::stress(p, svd.U, svd.sigma, svd.V).hasNaN());
     EXPECT_TRUE(Law::stress(p, F).hasNaN());
     bool clamped;
-    const Eigen::Matrix3d Fc = clampedGradient(svd, kThreshold, clamped);
+    const Eigen::Matrix3d Fc = clampedGradient(svd, kSvdThreshold, clamped);
     ASSERT_TRUE(clamped);
-    const Eigen::Vector3d sc = svd.sigma.cwiseMax(kThreshold);
+    const Eigen::Vector3d sc = svd.sigma.cwiseMax(kSvdThreshold);
     const Eigen::Matrix3d P = Law::stress(p, Fc);
     const Eigen::Matrix3d Psvd = Frame::stress(p, svd.U, sc, svd.V);
-    worst.add(relative(Psvd, P));
+    worst.add(svdRelative(Psvd, P));
     EXPECT_LE(maxAbs(Psvd - P), stressTolerance(p, Fc, P)) << "sigma " << svd.sigma.transpose();
   }
   std::printf("P: SVD frame (clamped at %.2g) vs direct at F_c, %d inverted gradients: worst "
-              "%.2g\n", kThreshold, kTrials, worst.value);
+              "%.2g\n", kSvdThreshold, kTrials, worst.value);
 }
 
 TEST(TeranMuscleSvdFrame, TangentEqualsTheLawsTangent) {
@@ -205,9 +205,9 @@ TEST(TeranMuscleSvdFrame, TangentEqualsTheLawsTangent) {
     for (int trial = 0; trial < kTrials; ++trial) {
       const Law::Parameters p = randomMuscle(r, trial, rng);
       const Eigen::Matrix3d F =
-          randomRotation(rng) * singularValues(r, rng).asDiagonal() * randomRotation(rng);
+          svdRandomRotation(rng) * singularValues(r, rng).asDiagonal() * svdRandomRotation(rng);
       const RotationSvd svd = rotationSvd(F);
-      const double e = relative(Frame::tangent(p, svd.U, svd.sigma, svd.V), Law::tangent(p, F));
+      const double e = svdRelative(Frame::tangent(p, svd.U, svd.sigma, svd.V), Law::tangent(p, F));
       worst.add(e);
       EXPECT_LT(e, kRelativeTolerance) << name(r) << " sigma " << svd.sigma.transpose()
                                       << " deviatoric " << p.k.deviatoricStretch;
@@ -229,14 +229,14 @@ TEST(TeranMuscleSvdFrame, DifferentialEqualsTheLawsDifferential) {
     const bool inverted = trial % 2;
     const Eigen::Vector3d s = inverted ? Eigen::Vector3d(u(rng), u(rng), w(rng))
                                        : singularValues(Regime::kModerate, rng);
-    const Eigen::Matrix3d F = randomRotation(rng) * s.asDiagonal() * randomRotation(rng);
+    const Eigen::Matrix3d F = svdRandomRotation(rng) * s.asDiagonal() * svdRandomRotation(rng);
     const RotationSvd svd = rotationSvd(F);
     bool clamped;
-    const Eigen::Matrix3d Fc = inverted ? clampedGradient(svd, kThreshold, clamped) : F;
-    const Eigen::Vector3d sc = inverted ? svd.sigma.cwiseMax(kThreshold) : svd.sigma;
+    const Eigen::Matrix3d Fc = inverted ? clampedGradient(svd, kSvdThreshold, clamped) : F;
+    const Eigen::Vector3d sc = inverted ? svd.sigma.cwiseMax(kSvdThreshold) : svd.sigma;
     Eigen::Matrix3d dF;
     for (int i = 0; i < 9; ++i) dF.data()[i] = n(rng);
-    const double e = relative(Frame::stressDifferential(p, svd.U, sc, svd.V, dF),
+    const double e = svdRelative(Frame::stressDifferential(p, svd.U, sc, svd.V, dF),
                               Law::stressDifferential(p, Fc, dF));
     (inverted ? worstInverted : worst).add(e);
     EXPECT_LT(e, kRelativeTolerance) << "sigma " << svd.sigma.transpose();
@@ -267,7 +267,7 @@ TEST(TeranMuscleSvdFrame, IsotropicBlocksAreTheLawsTangentAtDiagonalGradients) {
             blocks(i + 3 * j, j + 3 * i) = m.beta[i][j];
           }
         }
-      const double e = relative(blocks, law);
+      const double e = svdRelative(blocks, law);
       worst.add(e);
       EXPECT_LT(e, kRelativeTolerance) << name(r) << " sigma " << s.transpose();
     }

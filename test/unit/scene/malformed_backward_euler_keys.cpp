@@ -16,7 +16,7 @@ using testutil::BadScene;
 using testutil::replaced;
 using testutil::writeScene;
 
-const char* const kScene = R"(name: block
+const char* const kBackwardEulerScene = R"(name: block
 mesh:
   generator: box
   nodes: [3, 3, 3]
@@ -41,7 +41,7 @@ run: {frame_time: 0.01, duration: 0.02}
 
 // The scene with `keys` (lines of "key: value") added to the integrator; they start on line 14.
 std::string withKeys(const std::string& keys) {
-  return replaced(kScene, "  type: backward_euler\n", "  type: backward_euler\n" + keys);
+  return replaced(kBackwardEulerScene, "  type: backward_euler\n", "  type: backward_euler\n" + keys);
 }
 
 const BackwardEulerIntegrator& integratorOf(const Scene& scene) {
@@ -54,7 +54,7 @@ const BackwardEulerParams& paramsOf(const Scene& scene) { return integratorOf(sc
 
 TEST(BackwardEulerKeys, ReachTheIntegrator) {
   using Params = BackwardEulerParams;
-  const Scene plain = loadScene(writeScene("be_plain.yaml", kScene));
+  const Scene plain = loadScene(writeScene("be_plain.yaml", kBackwardEulerScene));
   EXPECT_EQ(paramsOf(plain).linearSolver, Params::LinearSolver::kPcg);
   EXPECT_FALSE(paramsOf(plain).adaptive);
   EXPECT_EQ(paramsOf(plain).jacobian, Params::Jacobian::kAnalytic);
@@ -94,7 +94,7 @@ TEST(BackwardEulerKeys, ReachTheIntegrator) {
 // the analytic Jacobian, run with finite differences.
 TEST(BackwardEulerKeys, FiniteDifferencesRunAModelWithoutStiffness) {
   const std::string approximation =
-      replaced(kScene, "  - type: edge_length\n",
+      replaced(kBackwardEulerScene, "  - type: edge_length\n",
                "  - type: virtual_hexahedron\n    law: stvk\n"
                "    deformation_gradient: axis_approximation\n");
   EXPECT_THROW(loadScene(writeScene("be_vh.yaml", approximation)), InputError);

@@ -35,7 +35,7 @@ TEST(MalformedNodeTags, EachBadLineIsOneLineNamingFileAndLine) {
 }
 
 // Line numbers refer to this text (27 nodes).
-const char* const kScene = R"(mesh: {generator: box, nodes: [3, 3, 3], size: [0.02, 0.02, 0.02]}
+const char* const kBoundaryTagScene = R"(mesh: {generator: box, nodes: [3, 3, 3], size: [0.02, 0.02, 0.02]}
 materials: [{young_modulus: 3000, poisson_ratio: 0.3}]
 force_models: [{type: edge_length}]
 integrator: {type: backward_euler}
@@ -47,7 +47,7 @@ TEST(MalformedNodeTags, SceneKeysNameFileLineAndKey) {
   writeScene("controls.txt", "26 Z\n");
   writeScene("fixes.txt", "0 xyz\n");
   writeScene("out_of_range.txt", "0 xyz\n27 z\n");
-  const auto with = [](const std::string& b) { return replaced(kScene, "BOUNDARY", b); };
+  const auto with = [](const std::string& b) { return replaced(kBoundaryTagScene, "BOUNDARY", b); };
   const std::vector<BadScene> cases = {
       {"no motion", with("controlled: [{nodes: [26], axes: z}]"), 6,
        "boundary.controlled[0]: expected one of 'path', 'velocity' or 'step'"},
@@ -74,7 +74,7 @@ TEST(MalformedNodeTags, SceneKeysNameFileLineAndKey) {
 
 // `jaw: true` marks fixed nodes that a landmark fit's jaw moves: on all axes only, a boolean.
 TEST(MalformedNodeTags, JawEntriesFixAllAxesAndTakeABoolean) {
-  const auto with = [](const std::string& b) { return replaced(kScene, "BOUNDARY", b); };
+  const auto with = [](const std::string& b) { return replaced(kBoundaryTagScene, "BOUNDARY", b); };
   const std::vector<BadScene> cases = {
       {"jaw on some axes", with("fixed: [{nodes: [0, 1], axes: xy, jaw: true}]"), 6,
        "boundary.fixed[0].axes: expected xyz for a jaw entry: the jaw moves its nodes on all axes"},
@@ -91,7 +91,7 @@ TEST(MalformedNodeTags, JawEntriesFixAllAxesAndTakeABoolean) {
 // A node outside the mesh in the index file names the index file and its line.
 TEST(MalformedNodeTags, OutOfRangeNodeIsRefused) {
   writeScene("out_of_range.txt", "0 xyz\n27 z\n");
-  const std::string scene = writeScene("range.yaml", replaced(kScene, "BOUNDARY", "tags: {file: out_of_range.txt}"));
+  const std::string scene = writeScene("range.yaml", replaced(kBoundaryTagScene, "BOUNDARY", "tags: {file: out_of_range.txt}"));
   try {
     loadScene(scene);
     ADD_FAILURE() << "no error";

@@ -15,7 +15,7 @@ using testutil::BadScene;
 using testutil::replaced;
 
 // Line numbers below refer to this text. The box's node (i, j, k) is i + 2 j + 4 k.
-const char* const kScene = R"(name: cavity
+const char* const kCavityScene = R"(name: cavity
 mesh: {generator: box, nodes: [2, 2, 2], size: [0.01, 0.01, 0.01], split: six}
 materials:
   - {young_modulus: 3000, poisson_ratio: 0.4}
@@ -30,23 +30,23 @@ integrator: {type: backward_euler}
 const std::string kFaces =
     "[[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]]";
 
-std::string withFaces(const std::string& faces) { return replaced(kScene, kFaces, faces); }
+std::string withFaces(const std::string& faces) { return replaced(kCavityScene, kFaces, faces); }
 
 std::string withLine9(const std::string& line) {
-  return replaced(kScene, "    pressure: 1.0\n", line);
+  return replaced(kCavityScene, "    pressure: 1.0\n", line);
 }
 
 std::string withLms(const std::string& entry) {
-  return replaced(kScene,
+  return replaced(kCavityScene,
                   "  - type: adamss_cavity\n    faces: " + kFaces + "\n    pressure: 1.0\n",
                   entry);
 }
 
 TEST(MalformedCavity, TheGoodScenesLoad) {
-  const Scene scene = loadScene(testutil::writeScene("cavity_good.yaml", kScene));
+  const Scene scene = loadScene(testutil::writeScene("cavity_good.yaml", kCavityScene));
   EXPECT_STREQ(scene.system.models.at(1)->name(), "adamss_cavity");
   const std::string surface = replaced(
-      kScene, "faces: " + kFaces, "surface: {box: {min: [-1, -1, -1], max: [1, 1, 1]}}");
+      kCavityScene, "faces: " + kFaces, "surface: {box: {min: [-1, -1, -1], max: [1, 1, 1]}}");
   EXPECT_NO_THROW(loadScene(testutil::writeScene("cavity_surface.yaml", surface)));
   const Scene lms = loadScene(testutil::writeScene(
       "lms_good.yaml",
@@ -61,7 +61,7 @@ TEST(MalformedCavity, EachErrorNamesFileLineAndKey) {
       {"both facet sources",
        withLine9("    pressure: 1.0\n    surface: {box: {min: [0, 0, 0], max: [1, 1, 1]}}\n"), 7,
        "expected exactly one of 'faces'"},
-      {"no facets", replaced(kScene, "    faces: " + kFaces + "\n", ""), 7,
+      {"no facets", replaced(kCavityScene, "    faces: " + kFaces + "\n", ""), 7,
        "expected exactly one of 'faces'"},
       {"open surface",
        withFaces("[[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2]]"), 8,
@@ -90,14 +90,14 @@ TEST(MalformedCavity, EachErrorNamesFileLineAndKey) {
        "stress_unit"},
       {"a cavity doing nothing", withLine9(""), 7, "expected a non-zero pressure or volume_stiffness"},
       {"surface selecting one face",
-       replaced(kScene, "faces: " + kFaces,
+       replaced(kCavityScene, "faces: " + kFaces,
                 "surface: {box: {min: [-1, -1, -1], max: [1, 1, 0.001]}}"),
        8, "belongs to 1 facets"},
       {"surface selecting no face",
-       replaced(kScene, "faces: " + kFaces, "surface: {nodes: [0, 7]}"), 8,
+       replaced(kCavityScene, "faces: " + kFaces, "surface: {nodes: [0, 7]}"), 8,
        "no boundary face of the mesh has all its nodes selected"},
       {"surface with an unknown selection",
-       replaced(kScene, "faces: " + kFaces, "surface: {sphere: {radius: 1}}"), 8, "sphere"},
+       replaced(kCavityScene, "faces: " + kFaces, "surface: {sphere: {radius: 1}}"), 8, "sphere"},
       {"lms without rate", withLms("  - {type: adamss_lms_volume_springs, stiffness: 10}\n"), 7,
        "rate"},
       {"lms negative rate",

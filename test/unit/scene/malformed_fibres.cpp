@@ -34,7 +34,7 @@ TEST(MalformedFibreFile, EachBadRowIsOneLineNamingFileAndLine) {
 }
 
 // Line numbers refer to this text (the mesh has 8 hexes).
-const char* const kScene = R"(mesh: {generator: box, nodes: [3, 3, 3], size: [0.01, 0.01, 0.01], split: none}
+const char* const kFibreScene = R"(mesh: {generator: box, nodes: [3, 3, 3], size: [0.01, 0.01, 0.01], split: none}
 fibres: FIBRES
 materials:
   - young_modulus: 3000
@@ -48,7 +48,7 @@ integrator: {type: explicit_euler, time_step: 1.0e-5}
 )";
 
 std::string with(const std::string& fibres, const std::string& region = "{direction: [1, 0, 0]}") {
-  return replaced(replaced(kScene, "FIBRES", fibres), "REGION", region);
+  return replaced(replaced(kFibreScene, "FIBRES", fibres), "REGION", region);
 }
 
 TEST(MalformedFibreScene, EachBadKeyIsOneLineNamingFileLineAndKey) {

@@ -11,7 +11,7 @@ namespace tt {
 namespace {
 
 // Line numbers below refer to this text.
-const char* const kScene = R"(name: muscles
+const char* const kMuscleGroupScene = R"(name: muscles
 mesh: {generator: box, nodes: [3, 3, 3], size: [0.01, 0.01, 0.01]}
 materials:
   - young_modulus: 20
@@ -36,11 +36,11 @@ using testutil::BadScene;
 using testutil::replaced;
 
 TEST(MalformedMuscleGroups, GoodSceneLoads) {
-  EXPECT_NO_THROW(loadScene(testutil::writeScene("muscles_good.yaml", kScene)));
+  EXPECT_NO_THROW(loadScene(testutil::writeScene("muscles_good.yaml", kMuscleGroupScene)));
 }
 
 TEST(MalformedMuscleGroups, EachErrorNamesFileLineAndKey) {
-  const std::string s = kScene;
+  const std::string s = kMuscleGroupScene;
   const std::vector<BadScene> cases = {
       {"unknown muscle key", replaced(s, "        activation: 0.5", "        activaton: 0.5"), 15,
        "force_models[0].muscles[0].activaton: unknown key 'activaton'"},

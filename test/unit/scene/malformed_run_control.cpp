@@ -9,14 +9,14 @@
 namespace tt {
 namespace {
 
-const char* const kScene = R"(mesh: {generator: box, nodes: [2, 2, 2], size: [0.01, 0.01, 0.01]}
+const char* const kRunControlScene = R"(mesh: {generator: box, nodes: [2, 2, 2], size: [0.01, 0.01, 0.01]}
 materials: [{young_modulus: 3000, poisson_ratio: 0.4}]
 force_models: [{type: tensor_mass}]
 integrator: {type: backward_euler}
 run: RUN
 )";
 
-std::string withRun(const std::string& run) { return testutil::replaced(kScene, "RUN", run); }
+std::string withRun(const std::string& run) { return testutil::replaced(kRunControlScene, "RUN", run); }
 
 TEST(MalformedRunControl, EachBadStopConditionFailsWithOneLine) {
   testutil::expectEachSceneFailsClearly(

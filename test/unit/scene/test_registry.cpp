@@ -34,7 +34,7 @@ std::string readText(const fs::path& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-const fs::path kRoot = TT_SOURCE_DIR;
+const fs::path kRegistryRoot = TT_SOURCE_DIR;
 
 // A YAML entry over text; `file` must outlive the entry.
 YamlEntry entryOf(const YAML::Node& node, const std::string& file) { return YamlEntry(node, "spec", &file); }
@@ -75,10 +75,10 @@ LawEntry dummyLaw(const std::string& name, bool standalone = false) {
 // Every register*(Registry&) function defined in a *_registration.cpp under src/core is called
 // from the one list, so no registration can be dropped by the linker or forgotten.
 TEST(Registry, EveryRegistrationFunctionIsCalledFromTheList) {
-  const std::string list = readText(kRoot / "src/core/scene/builtin_registrations.cpp");
+  const std::string list = readText(kRegistryRoot / "src/core/scene/builtin_registrations.cpp");
   const std::regex definition(R"(void\s+(register\w+)\s*\(\s*Registry\s*&\s*\w*\s*\)\s*\{)");
   int found = 0;
-  for (const auto& file : fs::recursive_directory_iterator(kRoot / "src/core")) {
+  for (const auto& file : fs::recursive_directory_iterator(kRegistryRoot / "src/core")) {
     const std::string name = file.path().filename().string();
     if (name.size() < 17 || name.substr(name.size() - 17) != "_registration.cpp") continue;
     const std::string text = readText(file.path());
@@ -98,7 +98,7 @@ TEST(Registry, EveryRegistrationFunctionIsCalledFromTheList) {
 // docs/registry.md lists every registered name (rows "| force_model | `name` | ..."), and
 // nothing it lists is missing from the registry.
 TEST(Registry, DocumentedNamesAreExactlyTheRegisteredOnes) {
-  const std::string doc = readText(kRoot / "docs/registry.md");
+  const std::string doc = readText(kRegistryRoot / "docs/registry.md");
   const std::regex row(R"(\|\s*(force_model|preset|law|integrator)\s*\|\s*`([a-z0-9_]+)`)");
   std::set<std::string> documented;
   for (std::sregex_iterator m(doc.begin(), doc.end(), row), end; m != end; ++m)
@@ -115,8 +115,8 @@ TEST(Registry, DocumentedNamesAreExactlyTheRegisteredOnes) {
 // Every `type: a | b` a documentation page or the README names in its scene examples is a
 // registered model or integrator, or a time curve's type (model/time_curve.h).
 TEST(Registry, TypesNamedInTheDocumentationAreRegistered) {
-  std::vector<fs::path> pages{kRoot / "README.md"};
-  for (const auto& file : fs::directory_iterator(kRoot / "docs"))
+  std::vector<fs::path> pages{kRegistryRoot / "README.md"};
+  for (const auto& file : fs::directory_iterator(kRegistryRoot / "docs"))
     if (file.path().extension() == ".md") pages.push_back(file.path());
   // A YAML key `type:`, not the `...].type:` key path of a quoted error message.
   const std::regex typeLine(R"((?:^|[^.\w])type:[ \t]*([a-z_]+([ \t]*\|[ \t]*[a-z_]+)*))");

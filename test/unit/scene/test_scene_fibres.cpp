@@ -19,7 +19,7 @@ using testutil::replaced;
 using testutil::writeScene;
 
 // 2 x 2 x 2 cells of 6 tets each (48 tets), 1 cm.
-const char* const kScene = R"(mesh: {generator: box, nodes: [3, 3, 3], size: [0.01, 0.01, 0.01], split: six}
+const char* const kFibreFieldScene = R"(mesh: {generator: box, nodes: [3, 3, 3], size: [0.01, 0.01, 0.01], split: six}
 FIBRES
 materials:
   - young_modulus: 3000
@@ -43,7 +43,7 @@ void expectOrthonormalRightHanded(const Eigen::Matrix3d& B) {
 }
 
 TEST(FibreScene, EachMaterialRegionHasItsOwnFrame) {
-  std::string text = replaced(kScene, "FIBRES", "fibres: {direction: [1, 0, 0]}");
+  std::string text = replaced(kFibreFieldScene, "FIBRES", "fibres: {direction: [1, 0, 0]}");
   text = replaced(text, "    young_modulus: 3000\n    poisson_ratio: 0.3\nforce",
                   "    young_modulus: 3000\n    poisson_ratio: 0.3\n"
                   "    fibres: {direction: [0, 1, 0], sheet: [0, 0, 1]}\nforce");
@@ -81,7 +81,7 @@ TEST(FibreScene, FileFramesReadBackPerElement) {
     return rows;
   }());
   for (const bool rotated : {false, true}) {
-    std::string text = replaced(kScene, "FIBRES", "fibres: {file: frames.txt}");
+    std::string text = replaced(kFibreFieldScene, "FIBRES", "fibres: {file: frames.txt}");
     if (rotated) text = replaced(text, "split: six}", "split: six, rotate_deg: [0, 0, 90]}");
     const Mesh& mesh = loadScene(writeScene("file_fibres.yaml", text)).system.mesh;
     const Eigen::Matrix3d R =
@@ -112,7 +112,7 @@ TEST(FibreScene, FileFramesReadBackPerElement) {
 // mesh's thickness, measured at the element's centroid; the sheet is the normal.
 TEST(FibreScene, TransmuralAngleFollowsTheCentroidDepth) {
   const std::string text = replaced(
-      kScene, "FIBRES",
+      kFibreFieldScene, "FIBRES",
       "fibres: {transmural: {normal: [0, 0, 2], direction: [1, 0, 0.5], angles_deg: [60, -60]}}");
   const Mesh& mesh = loadScene(writeScene("transmural.yaml", text)).system.mesh;
   for (int e = 0; e < mesh.numTets(); ++e) {
@@ -129,7 +129,7 @@ TEST(FibreScene, TransmuralAngleFollowsTheCentroidDepth) {
 // A region of its own: the wall is the region's extent (given here), the other region keeps
 // the file-less default, the identity frame.
 TEST(FibreScene, TransmuralPerRegionWithExtent) {
-  std::string text = replaced(kScene, "FIBRES\n", "");
+  std::string text = replaced(kFibreFieldScene, "FIBRES\n", "");
   text = replaced(text, "    young_modulus: 3000\n    poisson_ratio: 0.3\nforce",
                   "    young_modulus: 3000\n    poisson_ratio: 0.3\n"
                   "    fibres:\n      transmural: {normal: [0, 0, 1], direction: [1, 0, 0],\n"

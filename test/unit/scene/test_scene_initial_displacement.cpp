@@ -15,7 +15,7 @@
 namespace tt {
 namespace {
 
-const char* const kBlock = R"(mesh: {generator: box, nodes: [3, 3, 3], size: [0.02, 0.02, 0.03]}
+const char* const kDisplacedBlock = R"(mesh: {generator: box, nodes: [3, 3, 3], size: [0.02, 0.02, 0.03]}
 materials: [{young_modulus: 5000, poisson_ratio: 0.3, density: 1000}]
 force_models: [{type: hyperelastic, law: neo_hookean}]
 integrator: {type: backward_euler, background_refactor: false}
@@ -28,7 +28,7 @@ const Eigen::Vector3d kDisplacement(0.001, 0, -0.0005);
 
 Scene displaced(const std::string& boundary, const std::string& damping = "") {
   return loadScene(testutil::writeScene(
-      "displaced.yaml", testutil::replaced(testutil::replaced(kBlock, "BOUNDARY", boundary),
+      "displaced.yaml", testutil::replaced(testutil::replaced(kDisplacedBlock, "BOUNDARY", boundary),
                                            "DAMPING", damping)));
 }
 

@@ -28,7 +28,7 @@ using testutil::replaced;
 using testutil::writeScene;
 
 // A 2 x 2 x 4 cm block clamped at z = 0, hanging under gravity with mass damping.
-const char* const kBlock = R"(name: block
+const char* const kRunControlBlock = R"(name: block
 mesh: {generator: box, nodes: [3, 3, 4], size: [0.02, 0.02, 0.04]}
 materials: [{young_modulus: 5000, poisson_ratio: 0.3, density: 1000}]
 force_models: [{type: tensor_mass}]
@@ -78,7 +78,7 @@ std::vector<double> vtuArray(const fs::path& path, const std::string& name) {
 }
 
 TEST(RunControl, StopsAtTheFirstFrameBelowTheKineticEnergyThreshold) {
-  Scene scene = loadScene(writeScene("block.yaml", kBlock));
+  Scene scene = loadScene(writeScene("block.yaml", kRunControlBlock));
   ASSERT_TRUE(scene.kineticEnergyStop.has_value());
   EXPECT_EQ(scene.kineticEnergyStop->below, 1e-9);
   EXPECT_EQ(scene.kineticEnergyStop->notBefore, 0.0);
@@ -107,7 +107,7 @@ TEST(RunControl, StopsAtTheFirstFrameBelowTheKineticEnergyThreshold) {
 TEST(RunControl, TheKineticEnergyStopWaitsForItsStartTime) {
   // At rest (no gravity) the kinetic energy is 0 from the first frame: the run stops at the
   // first frame ending at or after stop_not_before, or at t_max without the stop.
-  const std::string still = replaced(kBlock, "gravity: [0, 0, -9.81], ", "");
+  const std::string still = replaced(kRunControlBlock, "gravity: [0, 0, -9.81], ", "");
   Scene early = loadScene(writeScene("still.yaml", still));
   EXPECT_EQ(runScene(early, {}).frames, 1);
   // Ten frames of 0.01 s end at 0.09999999999999999 s: the frame ending at 0.1 up to round-off
@@ -133,12 +133,12 @@ TEST(RunControl, TheKineticEnergyStopWaitsForItsStartTime) {
 // run.settle_time: the block released under gravity is stepped to rest before a session
 // starts; frames of at most the given length, the last one shortened to end on the time.
 TEST(RunControl, SettlingStepsTheSceneToRestForItsSettleTime) {
-  Scene scene = loadScene(writeScene("settle.yaml", replaced(kBlock, "duration: 2.0,", "duration: 2.0, settle_time: 0.55,")));
+  Scene scene = loadScene(writeScene("settle.yaml", replaced(kRunControlBlock, "duration: 2.0,", "duration: 2.0, settle_time: 0.55,")));
   EXPECT_EQ(scene.settleTime, 0.55);
-  Scene fresh = loadScene(writeScene("block.yaml", kBlock));
+  Scene fresh = loadScene(writeScene("block.yaml", kRunControlBlock));
   EXPECT_EQ(fresh.settleTime, 0.0);
   const double releasedKinetic = [&] {
-    Scene released = loadScene(writeScene("block.yaml", kBlock));
+    Scene released = loadScene(writeScene("block.yaml", kRunControlBlock));
     released.integrator->advance(released.system, 0.1);
     return measureFrame(released.system, 1, {}).kineticEnergy;
   }();
@@ -158,7 +158,7 @@ TEST(RunControl, SettlingStepsTheSceneToRestForItsSettleTime) {
 }
 
 TEST(RunControl, AnInterruptEndsTheRunAfterTheFrameWithEveryOutput) {
-  Scene scene = loadScene(writeScene("block.yaml", kBlock));
+  Scene scene = loadScene(writeScene("block.yaml", kRunControlBlock));
   RunOptions options;
   options.outDir = outDir("interrupt").string();
   int asked = 0;
@@ -189,7 +189,7 @@ TEST(RunControl, AnInterruptEndsTheRunAfterTheFrameWithEveryOutput) {
 // on every free node and zero on the clamped ones; positions and offsets are the rest mesh
 // and zero.
 TEST(RunControl, TheVtuSeriesHoldsPositionsOffsetsVelocitiesAndAccelerations) {
-  Scene scene = loadScene(writeScene("block.yaml", kBlock));
+  Scene scene = loadScene(writeScene("block.yaml", kRunControlBlock));
   const Mesh mesh = scene.system.mesh;
   RunOptions options;
   options.outDir = outDir("vtu").string();

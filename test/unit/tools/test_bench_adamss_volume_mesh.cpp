@@ -22,11 +22,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path outputDir() { return fs::temp_directory_path() / "tt_bench_adamss_quick"; }
+fs::path volumeMeshOutputDir() { return fs::temp_directory_path() / "tt_bench_adamss_quick"; }
 
 int runBench(const std::string& arguments) {
   const std::string command = std::string(TT_BENCH_ADAMSS_PATH) + " " + arguments + " > " +
-                              (outputDir() / "log.txt").string() + " 2>&1";
+                              (volumeMeshOutputDir() / "log.txt").string() + " 2>&1";
   const int status = std::system(command.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
@@ -50,9 +50,9 @@ std::vector<std::map<std::string, std::string>> namedRows(const fs::path& path) 
 // Table 2.1), on the TetGen mesh as well. An isotropic law stretched along x, y or z gives the
 // same stress on a cube whose mesh is symmetric under the exchange of the axes.
 TEST(BenchAdamss, MeshIndependenceQuick) {
-  fs::create_directories(outputDir());
-  ASSERT_EQ(runBench("mesh_independence --quick --out " + outputDir().string()), 0);
-  const auto rows = namedRows(outputDir() / "mesh_independence_summary.csv");
+  fs::create_directories(volumeMeshOutputDir());
+  ASSERT_EQ(runBench("mesh_independence --quick --out " + volumeMeshOutputDir().string()), 0);
+  const auto rows = namedRows(volumeMeshOutputDir() / "mesh_independence_summary.csv");
   ASSERT_FALSE(rows.empty());
   int aligned = 0, isotropic = 0;
   bool tetgen = false;
@@ -76,17 +76,17 @@ TEST(BenchAdamss, MeshIndependenceQuick) {
   if (!tetgen) std::printf("[ skipped  ] tetgen not installed: no unstructured TetGen mesh\n");
   EXPECT_EQ(aligned, tetgen ? 6 : 5);
   EXPECT_EQ(isotropic, 5);
-  EXPECT_TRUE(fs::exists(outputDir() / "mesh_independence.csv"));
+  EXPECT_TRUE(fs::exists(volumeMeshOutputDir() / "mesh_independence.csv"));
 }
 
 // Without the volume term the hanging Hunter cuboid changes its volume by several per cent
 // (its lateral strains stay near zero, so dV/V0 follows the stretch); the term
 // p (det F - 1)^2 holds it far below 1 %, less the larger p.
 TEST(BenchAdamss, VolumeQuick) {
-  fs::create_directories(outputDir());
-  ASSERT_EQ(runBench("volume --quick --out " + outputDir().string()), 0);
+  fs::create_directories(volumeMeshOutputDir());
+  ASSERT_EQ(runBench("volume --quick --out " + volumeMeshOutputDir().string()), 0);
   std::map<double, double> worst;  // p (kPa) -> max |dV/V0|
-  for (const auto& r : namedRows(outputDir() / "volume_summary.csv")) {
+  for (const auto& r : namedRows(volumeMeshOutputDir() / "volume_summary.csv")) {
     ASSERT_EQ(r.at("ok"), "1") << r.at("failure");
     if (r.at("mesh") == "hex")
       worst[std::stod(r.at("p_kpa"))] = std::stod(r.at("max_abs_volume_change"));
@@ -96,14 +96,14 @@ TEST(BenchAdamss, VolumeQuick) {
   EXPECT_LT(worst[1e2], 0.01);
   EXPECT_LT(worst[1e3], worst[1e2]);
   for (double p : {1e3, 1e4, 1e5}) EXPECT_LT(worst[p], 1e-3) << p;
-  EXPECT_TRUE(fs::exists(outputDir() / "volume.csv"));
+  EXPECT_TRUE(fs::exists(volumeMeshOutputDir() / "volume.csv"));
 }
 
 TEST(BenchAdamss, UnknownArgumentIsOneErrorLine) {
-  fs::create_directories(outputDir());
+  fs::create_directories(volumeMeshOutputDir());
   EXPECT_EQ(runBench("volume --qiuck"), 2);
   EXPECT_EQ(runBench("scaling --preconditioners jacobbi --quick --out " +
-                     (outputDir() / "bad").string()),
+                     (volumeMeshOutputDir() / "bad").string()),
             2);
 }
 

@@ -23,7 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path outputDir() {
+fs::path pipelineOutputDir() {
   const char* dir = std::getenv("TT_BENCH_TEST_OUT");
   return dir && *dir ? fs::path(dir) : fs::temp_directory_path() / "tt_bench_quick";
 }
@@ -31,23 +31,23 @@ fs::path outputDir() {
 using test::readCsv;
 using test::splitCsv;
 
-// Runs command with its output in outputDir()/log.
+// Runs command with its output in pipelineOutputDir()/log.
 int run(const std::string& command, const std::string& log) {
-  const int status = std::system((command + " > " + (outputDir() / log).string() + " 2>&1").c_str());
+  const int status = std::system((command + " > " + (pipelineOutputDir() / log).string() + " 2>&1").c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 class BenchPipeline : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    fs::remove_all(outputDir());
-    fs::create_directories(outputDir());
+    fs::remove_all(pipelineOutputDir());
+    fs::create_directories(pipelineOutputDir());
     workPrecisionExit = run(std::string(TT_BENCH_WORK_PRECISION_PATH) + " --quick --out " +
-                            outputDir().string(), "work_precision.log");
+                            pipelineOutputDir().string(), "work_precision.log");
     scalingExit = run(std::string(TT_BENCH_SCALING_PATH) + " --quick --out " +
-                      outputDir().string(), "scaling.log");
+                      pipelineOutputDir().string(), "scaling.log");
     sweepExit = run(std::string(TT_BENCH_STABILITY_SWEEP_PATH) + " --quick --out " +
-                    outputDir().string(), "stability_sweep.log");
+                    pipelineOutputDir().string(), "stability_sweep.log");
   }
   static int workPrecisionExit, scalingExit, sweepExit;
 };
@@ -58,7 +58,7 @@ int BenchPipeline::sweepExit = -1;
 
 TEST_F(BenchPipeline, WorkPrecisionCsvHasTheColumnsAndEveryProblem) {
   ASSERT_EQ(workPrecisionExit, 0);
-  const auto rows = readCsv(outputDir() / "work_precision.csv");
+  const auto rows = readCsv(pipelineOutputDir() / "work_precision.csv");
   ASSERT_GT(rows.size(), 1u);
   const std::vector<std::string> leading = {
       "problem", "model", "integrator", "parameter", "error", "cpu_seconds", "wall_seconds",
@@ -89,7 +89,7 @@ TEST_F(BenchPipeline, WorkPrecisionCsvHasTheColumnsAndEveryProblem) {
 
 TEST_F(BenchPipeline, FactsCsvNamesTheAnalyticValues) {
   ASSERT_EQ(workPrecisionExit, 0);
-  const auto rows = readCsv(outputDir() / "work_precision_facts.csv");
+  const auto rows = readCsv(pipelineOutputDir() / "work_precision_facts.csv");
   ASSERT_GT(rows.size(), 1u);
   EXPECT_EQ(rows[0], (std::vector<std::string>{"problem", "quantity", "value", "unit", "meaning"}));
   std::set<std::string> quantities;
@@ -101,7 +101,7 @@ TEST_F(BenchPipeline, FactsCsvNamesTheAnalyticValues) {
 
 TEST_F(BenchPipeline, ScalingCsvAndFits) {
   ASSERT_EQ(scalingExit, 0);
-  const auto rows = readCsv(outputDir() / "scaling.csv");
+  const auto rows = readCsv(pipelineOutputDir() / "scaling.csv");
   ASSERT_GT(rows.size(), 1u);
   EXPECT_EQ(rows[0], (std::vector<std::string>{"quantity", "model", "tets", "nodes",
                                                "wall_seconds", "cpu_seconds", "repeats",
@@ -113,7 +113,7 @@ TEST_F(BenchPipeline, ScalingCsvAndFits) {
     EXPECT_GT(std::stod(rows[i][4]), 0.0);
   }
   EXPECT_EQ(quantities, (std::set<std::string>{"force_evaluation", "explicit_step", "implicit_step"}));
-  const auto fits = readCsv(outputDir() / "scaling_fits.csv");
+  const auto fits = readCsv(pipelineOutputDir() / "scaling_fits.csv");
   ASSERT_GT(fits.size(), 1u);
   EXPECT_EQ(fits[0], (std::vector<std::string>{"quantity", "model", "slope", "log_intercept"}));
   for (size_t i = 1; i < fits.size(); ++i) EXPECT_TRUE(std::isfinite(std::stod(fits[i][2])));
@@ -143,7 +143,7 @@ const std::set<std::string> kOutcomes = {"stable", "recovered", "failed"};
 TEST_F(BenchPipeline, StabilitySweepGridSeparatesStableFromUnstable) {
   ASSERT_EQ(sweepExit, 0);
   const auto rows = namedRows(
-      outputDir() / "stability_sweep.csv",
+      pipelineOutputDir() / "stability_sweep.csv",
       {"integrator", "model", "young", "poisson", "step", "outcome", "energy_growth",
        "inverted_max", "guard_recoveries", "guard_halvings", "guard_failures", "wall_seconds",
        "guarded_wall_seconds", "failure"});
@@ -178,7 +178,7 @@ TEST_F(BenchPipeline, StabilitySweepGridSeparatesStableFromUnstable) {
 TEST_F(BenchPipeline, StabilitySweepCriticalStepAndExtremeCases) {
   ASSERT_EQ(sweepExit, 0);
   const auto critical = namedRows(
-      outputDir() / "critical_step.csv",
+      pipelineOutputDir() / "critical_step.csv",
       {"model", "young", "poisson", "shortest_edge", "wave_speed", "predicted_hc",
        "two_over_omega_max", "limit_symplectic_euler", "limit_newtonian"});
   for (const auto& r : critical) {
@@ -190,7 +190,7 @@ TEST_F(BenchPipeline, StabilitySweepCriticalStepAndExtremeCases) {
     EXPECT_LT(measured, 10.0 * predicted) << r.at("young");
   }
   const auto extremes = namedRows(
-      outputDir() / "extreme_cases.csv",
+      pipelineOutputDir() / "extreme_cases.csv",
       {"case", "integrator", "model", "step", "outcome", "energy_growth", "inverted_max",
        "guard_recoveries", "guard_halvings", "guard_failures", "wall_seconds", "failure"});
   std::set<std::string> cases, quasistaticCases;
@@ -212,8 +212,8 @@ TEST_F(BenchPipeline, StabilitySweepCriticalStepAndExtremeCases) {
 // A misspelt name or a bad count is one error line naming it and exit 2, not a run that
 // silently leaves the name out.
 TEST(BenchCommandLine, UnknownNamesAndBadValuesAreOneErrorLine) {
-  fs::create_directories(outputDir());
-  const std::string out = " --out " + (outputDir() / "bad_input").string();
+  fs::create_directories(pipelineOutputDir());
+  const std::string out = " --out " + (pipelineOutputDir() / "bad_input").string();
   std::vector<std::pair<std::string, std::string>> cases = {
       {std::string(TT_BENCH_WORK_PRECISION_PATH) + " --models edge_lenght", "'edge_lenght'"},
       {std::string(TT_BENCH_WORK_PRECISION_PATH) + " --problems patch,cantilever", "'cantilever'"},
@@ -230,7 +230,7 @@ TEST(BenchCommandLine, UnknownNamesAndBadValuesAreOneErrorLine) {
 #endif
   for (const auto& [command, named] : cases) {
     EXPECT_EQ(run(command + out, "bad_input.log"), 2) << command;
-    std::ifstream log(outputDir() / "bad_input.log");
+    std::ifstream log(pipelineOutputDir() / "bad_input.log");
     std::vector<std::string> lines;
     for (std::string line; std::getline(log, line);) lines.push_back(line);
     ASSERT_EQ(lines.size(), 1u) << command;

@@ -24,15 +24,15 @@ using Source = DeformationGradientSource;
 using Distribution = PointForceDistribution;
 using VolumeVH = VirtualHexahedronModel<VolumeLaw>;
 
-const LawOptions kPlain{};
+const LawOptions kPlainOptions{};
 const std::vector<VolumeLaw::Constants> kVolume = {{5000.0, 1.0}, {5000.0, 1.0}};
 
 VolumeVH model(const Mesh& mesh, Distribution distribution) {
-  return VolumeVH(mesh, kVolume, kPlain, Source::kShapeFunctions, distribution);
+  return VolumeVH(mesh, kVolume, kPlainOptions, Source::kShapeFunctions, distribution);
 }
 
 // x = A X + a random motion of `amplitude` (m) per coordinate.
-Eigen::VectorXd deformed(const Mesh& m, const Eigen::Matrix3d& A, double amplitude,
+Eigen::VectorXd distributionDeformed(const Mesh& m, const Eigen::Matrix3d& A, double amplitude,
                          std::mt19937& rng) {
   Eigen::VectorXd x = perturbed(m, amplitude, rng);
   for (int n = 0; n < m.numNodes(); ++n)
@@ -46,7 +46,7 @@ Eigen::Matrix3d compressionAndShear() {
   return A;
 }
 
-Eigen::Vector3d netForce(const Eigen::VectorXd& f) {
+Eigen::Vector3d distributionNetForce(const Eigen::VectorXd& f) {
   return Eigen::Map<const Eigen::Matrix3Xd>(f.data(), 3, f.size() / 3).rowwise().sum();
 }
 
@@ -86,7 +86,7 @@ TEST(VirtualHexahedronDistribution, VerticesGivesEachPointForceInThirdsToItsFace
   for (int trial = 0; trial < 5; ++trial) {
     const Mesh tet = randomTet(rng);
     const VolumeVH vertices = model(tet, Distribution::kVertices);
-    const Eigen::VectorXd x = deformed(tet, compressionAndShear(), 3e-4, rng);
+    const Eigen::VectorXd x = distributionDeformed(tet, compressionAndShear(), 3e-4, rng);
 
     const AxisRest<Tet4> axes = buildAxes(tet).tetRest[0];
     const NodeMatrix<4> X = gatherNodes<4>(tet.rest, tet.tets[0]);
@@ -127,7 +127,7 @@ TEST(VirtualHexahedronDistribution, VerticesHasNoEnergyButItsStiffnessIsTheDeriv
   EXPECT_TRUE(axes.hasEnergy());
   EXPECT_FALSE(vertices.hasEnergy());
   EXPECT_EQ(vertices.nonConservativeTets(), static_cast<int>(mesh.tets.size()));
-  const Eigen::VectorXd x = deformed(mesh, compressionAndShear(), 2e-4, rng);
+  const Eigen::VectorXd x = distributionDeformed(mesh, compressionAndShear(), 2e-4, rng);
   EXPECT_EQ(vertices.energy(x), 0.0);
   Eigen::VectorXd f = Eigen::VectorXd::Zero(x.size());
   EXPECT_EQ(vertices.addForce(x, x, f), 0.0);
@@ -146,7 +146,7 @@ TEST(VirtualHexahedronDistribution, VerticesHasNoEnergyButItsStiffnessIsTheDeriv
   const Mesh hexes = obliqueHexes(rng);
   const VolumeVH onHexes = model(hexes, Distribution::kVertices);
   EXPECT_FALSE(onHexes.hasEnergy());
-  const Eigen::VectorXd y = deformed(hexes, compressionAndShear(), 2e-4, rng);
+  const Eigen::VectorXd y = distributionDeformed(hexes, compressionAndShear(), 2e-4, rng);
   EXPECT_LT(relDiff(denseStiffness(onHexes, hexes, y), fdForceJacobian(onHexes, y, 1e-8)), 1e-6);
 }
 
@@ -158,10 +158,10 @@ void expectNetForceMomentAndRigidMotion(const Mesh& mesh, Distribution distribut
   const bool equal = distribution == Distribution::kVertices;
   SCOPED_TRACE(equal ? "vertices" : "axes");
   const VolumeVH vh = model(mesh, distribution);
-  const Eigen::VectorXd x = deformed(mesh, compressionAndShear(), amplitude, rng);
+  const Eigen::VectorXd x = distributionDeformed(mesh, compressionAndShear(), amplitude, rng);
   const Eigen::VectorXd f = force(vh, x);
   EXPECT_LT(force(vh, restVector(mesh)).lpNorm<Eigen::Infinity>(), 1e-12 * f.norm());
-  EXPECT_LT(netForce(f).norm(), 1e-12 * f.norm());
+  EXPECT_LT(distributionNetForce(f).norm(), 1e-12 * f.norm());
   const double relativeMoment = moment(x, f).norm() / momentScale(x, f);
   std::printf("[ measured ] %s, %s: |moment| / sum |x_p - c| |f_p| = %.3g\n",
               mesh.hexes.empty() ? "tets" : "hexes", equal ? "vertices" : "axes",
@@ -196,7 +196,7 @@ TEST(VirtualHexahedronDistribution, BothAgreeWherePointsAreFaceCentres) {
   const VolumeVH vertices = model(hex, Distribution::kVertices);
   EXPECT_TRUE(vertices.hasEnergy());
   std::mt19937 rng(24);
-  const Eigen::VectorXd x = deformed(hex, compressionAndShear(), 2e-4, rng);
+  const Eigen::VectorXd x = distributionDeformed(hex, compressionAndShear(), 2e-4, rng);
   EXPECT_LT(relDiff(force(vertices, x), force(axes, x)), 1e-14);
   EXPECT_LT(relDiff(force(vertices, x), Eigen::VectorXd(-fdGradient(vertices, x, 1e-8))), 1e-6);
 }
@@ -212,7 +212,7 @@ TEST(VirtualHexahedronDistribution, BothRestoreTheVolumeOfACompressedTet) {
     for (Distribution distribution : {Distribution::kAxes, Distribution::kVertices}) {
       SCOPED_TRACE(distribution == Distribution::kVertices ? "vertices" : "axes");
       const VolumeVH vh = model(tet, distribution);
-      Eigen::VectorXd x = deformed(tet, 0.9 * Eigen::Matrix3d::Identity(), 0.0, rng);
+      Eigen::VectorXd x = distributionDeformed(tet, 0.9 * Eigen::Matrix3d::Identity(), 0.0, rng);
       auto volume = [&](const Eigen::VectorXd& y) {
         return tetVolume(Eigen::Map<const Eigen::Matrix3Xd>(y.data(), 3, 4), tet.tets[0]);
       };
