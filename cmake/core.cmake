@@ -29,7 +29,7 @@ target_compile_options(tissue_trainer_core PRIVATE -Wall -Wextra)
 # CHOLMOD (SuiteSparse 5, Debian's libsuitesparse-dev: no CMake package of its own) for the
 # Cholesky preconditioner of the implicit solver, and UMFPACK for the real and complex sparse
 # LU of the Radau IIA integrator (a compiled library: Eigen's own SparseLU, a header template
-# instantiated for both scalar types, took a minute to compile, UMFPACK 26 s less).
+# instantiated for both scalar types, made this one file take a minute to compile; 26 s now).
 find_path(TT_CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse)
 find_library(TT_CHOLMOD_LIBRARY cholmod)
 find_library(TT_UMFPACK_LIBRARY umfpack)
@@ -70,9 +70,14 @@ set_target_properties(tissue_trainer_core PROPERTIES POSITION_INDEPENDENT_CODE O
 # instantiate the same Eigen products for every law). It halves the core's compilation (575 -> 291 s of one core, measured
 # in docs/building.md). Helpers in unnamed namespaces must therefore have names distinct
 # across the core's files. TT_CORE_UNITY=OFF compiles file by file.
+# The law registrations (20-30 s each) compile one by one, so that an edit of any core file
+# recompiles at most about 30 s: batched together they took 58 s.
 option(TT_CORE_UNITY "Compile the core in unity batches" ON)
 if(TT_CORE_UNITY)
   set_target_properties(tissue_trainer_core PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)
+  file(GLOB TT_LAW_REGISTRATIONS "${TT_ROOT}/src/core/material/*_registration.cpp")
+  set_source_files_properties(${TT_LAW_REGISTRATIONS} "${TT_ROOT}/src/core/material/psd_projection.cpp"
+    PROPERTIES SKIP_UNITY_BUILD_INCLUSION ON)
 endif()
 # Every core file parses Eigen and much of the standard library, about 140,000 lines before
 # its own code: a precompiled header parses them once for the whole library.
