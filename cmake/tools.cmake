@@ -21,6 +21,9 @@ endforeach()
 # bench_adamss has one source file per experiment, in src/tools/bench_adamss/.
 file(GLOB TT_BENCH_ADAMSS_SOURCES CONFIGURE_DEPENDS "${TT_ROOT}/src/tools/bench_adamss/*.cpp")
 add_executable(bench_adamss ${TT_BENCH_ADAMSS_SOURCES})
+if(TT_CORE_UNITY)  # unity batches, as for the core
+  set_target_properties(bench_adamss PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)
+endif()
 target_link_libraries(bench_adamss tissue_trainer_core tt_tools_common)
 target_compile_options(bench_adamss PRIVATE -Wall -Wextra)
 target_compile_definitions(bench_adamss PRIVATE TT_SOURCE_ROOT="${TT_ROOT}")

@@ -39,7 +39,7 @@ namespace {
 
 constexpr double kStep = 1e-3;       // s
 constexpr double kPressure = 1e6;    // Pa: p = 1e3 kPa
-constexpr double kDensity = 1060.0;  // kg/m^3
+constexpr double kScalingDensity = 1060.0;  // kg/m^3
 const Eigen::Vector3d kSize(0.06, 0.06, 0.12);
 
 struct Sample {
@@ -79,7 +79,7 @@ std::unique_ptr<System> hangingCuboid(int n) {
   setFibreFrame(mesh, frame);
   for (int node : nodesAt(mesh, 2, kSize.z())) mesh.nodeTags[node] = kFixedAll;
   auto s = std::make_unique<System>(mesh, std::vector<Material>{
-                                              Material::isotropic(1.0, 0.0, kDensity)});
+                                              Material::isotropic(1.0, 0.0, kScalingDensity)});
   s->models.push_back(hunterModel(s->mesh));
   s->models.push_back(volumeModel(s->mesh, kPressure));
   s->models.push_back(std::make_unique<GravityModel>(s->mass, Eigen::Vector3d(0, 0, -9.81)));

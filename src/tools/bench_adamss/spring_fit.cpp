@@ -27,7 +27,7 @@ namespace bench_adamss {
 
 namespace {
 
-constexpr double kMaxStrain = 0.2;
+constexpr double kFitMaxStrain = 0.2;
 
 // Orders 1 and 3 (kPa): per axis (fibre, sheet, sheet-normal) for the axial springs, per axis
 // pair (fibre-sheet, fibre-normal, sheet-normal) for the torsion springs.
@@ -63,7 +63,7 @@ struct Curve {
 Curve stretchCurve(const Box& box, const Springs& k, int axis, int steps) {
   Scene scene = specimenScene(box, kAlignedFibres, springModels(k));
   Curve c;
-  const SpecimenRun run = stretchSpecimen(scene.system, axis, kMaxStrain, steps,
+  const SpecimenRun run = stretchSpecimen(scene.system, axis, kFitMaxStrain, steps,
                                           equilibriumParams(scene), [&](const StretchRow& r) {
                                             if (r.strain <= 0.0) return;
                                             c.x.push_back(r.strain);
@@ -81,14 +81,14 @@ struct ShearPlane {
   int normal, direction;
 };
 constexpr ShearPlane kPairPlane[3] = {{"sf", 1, 0}, {"fn", 0, 2}, {"ns", 2, 1}};
-constexpr double kMaxShear = 0.2;
+constexpr double kFitMaxShear = 0.2;
 
 Curve shearCurve(const Box& box, const Springs& k, int pair, int steps) {
   Scene scene = specimenScene(box, kAlignedFibres, springModels(k));
   const double volume = box.cells[0] * box.cells[1] * box.cells[2] * kVoxel * kVoxel * kVoxel;
   const ShearPlane& p = kPairPlane[pair];
   Curve c;
-  const SpecimenRun run = shearSpecimen(scene.system, p.normal, p.direction, kMaxShear, steps,
+  const SpecimenRun run = shearSpecimen(scene.system, p.normal, p.direction, kFitMaxShear, steps,
                                         equilibriumParams(scene), [&](const ShearRow& r) {
                                           if (r.shear <= 0.0) return;
                                           c.x.push_back(r.shear);

@@ -29,10 +29,10 @@ namespace bench_adamss {
 
 namespace {
 
-constexpr double kMaxStrain = 0.2;
+constexpr double kStretchMaxStrain = 0.2;
 constexpr double kPhiDeg = 21.25, kThetaDeg = 49.6;
 
-struct Row {
+struct ClampedRow {
   std::string specimen, topology, loading, axis;
   int elements = 0;
   double strain = 0.0, stressPa = 0.0, theoryPa = 0.0, relativeError = 0.0;
@@ -55,7 +55,7 @@ int elementCount(const Mesh& mesh) {
 // along z with the turned frame B (theory from the point problem).
 CaseSummary clampedStretch(const Box& box, const char* specimen, const std::string& fibres,
                            const Eigen::Matrix3d* turned, int axis, int steps,
-                           std::vector<Row>& rows) {
+                           std::vector<ClampedRow>& rows) {
   Scene scene = specimenScene(box, fibres, kHunterVirtualHexahedron);
   System& system = scene.system;
   const double height = specimenFaces(system.mesh, axis).height;
@@ -69,13 +69,13 @@ CaseSummary clampedStretch(const Box& box, const char* specimen, const std::stri
                   ""};
   Eigen::Matrix<double, 5, 1> guess = Eigen::Matrix<double, 5, 1>::Zero();
   double work = 0.0, previousForce = 0.0;
-  Row last;
+  ClampedRow last;
   const SpecimenRun run = stretchSpecimen(
-      system, axis, kMaxStrain, steps, equilibriumParams(scene), [&](const StretchRow& r) {
-        work += kMaxStrain / steps * height * 0.5 * (r.force + previousForce) *
+      system, axis, kStretchMaxStrain, steps, equilibriumParams(scene), [&](const StretchRow& r) {
+        work += kStretchMaxStrain / steps * height * 0.5 * (r.force + previousForce) *
                 (r.strain > 0.0 ? 1.0 : 0.0);
         previousForce = r.force;
-        Row row{sum.specimen, sum.topology, sum.loading, sum.axis,
+        ClampedRow row{sum.specimen, sum.topology, sum.loading, sum.axis,
                 sum.elements, r.strain,     r.stress};
         row.theoryPa = turned ? hunterRotatedUniaxialStress(*turned, r.stretch, guess)
                               : hunterUniaxialStress(axis, r.stretch);
@@ -99,7 +99,7 @@ CaseSummary clampedStretch(const Box& box, const char* specimen, const std::stri
 // (x, y) and the lower face's node at greatest x on its centre line (y). These allow the
 // homogeneous uniaxial stress state, which the linear tets represent exactly.
 CaseSummary tractionStretch(const Box& box, const char* specimen, const Eigen::Matrix3d& B,
-                            int steps, std::vector<Row>& rows) {
+                            int steps, std::vector<ClampedRow>& rows) {
   char fibres[96];
   std::snprintf(fibres, sizeof fibres, "{angles_deg: [%.17g, %.17g]}", kPhiDeg, kThetaDeg);
   Scene scene = specimenScene(box, fibres, kHunterVirtualHexahedron);
@@ -151,9 +151,9 @@ CaseSummary tractionStretch(const Box& box, const char* specimen, const Eigen::M
   Eigen::Matrix<double, 5, 1> loadGuess = Eigen::Matrix<double, 5, 1>::Zero(), guess = loadGuess;
   double work = 0.0, previousStretch = 1.0;
   rows.push_back({sum.specimen, sum.topology, sum.loading, sum.axis, sum.elements});
-  Row last;
+  ClampedRow last;
   for (int i = 1; i <= steps; ++i) {
-    const double target = 1.0 + kMaxStrain * i / steps;
+    const double target = 1.0 + kStretchMaxStrain * i / steps;
     const double stress = hunterRotatedUniaxialStress(B, target, loadGuess);
     for (int n = 0; n < mesh.numNodes(); ++n) {
       system.externalForce[3 * n + 2] = stress * load[n];
@@ -170,7 +170,7 @@ CaseSummary tractionStretch(const Box& box, const char* specimen, const Eigen::M
     previousX = x;
     previousF = system.externalForce;
     const double stretch = (x[3 * top + 2] - x[3 * bottom + 2]) / faces.height;
-    Row row{sum.specimen, sum.topology, sum.loading, sum.axis, sum.elements, stretch - 1.0, stress};
+    ClampedRow row{sum.specimen, sum.topology, sum.loading, sum.axis, sum.elements, stretch - 1.0, stress};
     row.theoryPa = hunterRotatedUniaxialStress(B, stretch, guess);
     row.relativeError = (row.stressPa - row.theoryPa) / row.theoryPa;
     sum.stress.add(row.relativeError);
@@ -183,12 +183,12 @@ CaseSummary tractionStretch(const Box& box, const char* specimen, const Eigen::M
   return sum;
 }
 
-void writeCsv(const std::string& path, const std::vector<Row>& rows) {
+void writeCsv(const std::string& path, const std::vector<ClampedRow>& rows) {
   std::ofstream out = openCsv(path);
   out << "specimen,topology,loading,axis,elements,strain,stress_Pa,theory_Pa,relative_error,"
          "work_J,energy_J\n";
   char line[512];
-  for (const Row& r : rows) {
+  for (const ClampedRow& r : rows) {
     std::snprintf(line, sizeof line, "%s,%s,%s,%s,%d,%.9g,%.9g,%.9g,%.6g,%.9g,%.9g\n",
                   r.specimen.c_str(), r.topology.c_str(), r.loading.c_str(), r.axis.c_str(),
                   r.elements, r.strain, r.stressPa, r.theoryPa, r.relativeError, r.workJ,
@@ -213,7 +213,7 @@ int runStretch(const Args& args) {
       aligned.push_back({"cuboid_4x4x8", {{4, 4, 8}, "six"}});
       aligned.push_back({"cuboid_4x4x8", {{4, 4, 8}, "none"}});
     }
-    std::vector<Row> rows;
+    std::vector<ClampedRow> rows;
     std::vector<CaseSummary> summaries;
     for (const Specimen& s : aligned)
       for (int axis = 0; axis < 3; ++axis)
@@ -239,7 +239,7 @@ int runStretch(const Args& args) {
     std::printf(
         "Uniaxial stretch to %.0f %% (Sec. 2.8.1), Hunter law through the virtual "
         "hexahedron, %d steps\n",
-        100 * kMaxStrain, steps);
+        100 * kStretchMaxStrain, steps);
     std::printf("%-20s %-4s %-8s %-16s %8s %12s %12s %14s\n", "specimen", "topo", "ends", "axis",
                 "elements", "max |rel|", "rms rel", "work/energy-1");
     // The turned frame on hexes is not expected to converge (see the loop below); any other

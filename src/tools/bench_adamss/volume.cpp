@@ -25,11 +25,11 @@ namespace tt {
 namespace bench_adamss {
 namespace {
 
-constexpr double kDensity = 1060.0;  // kg/m^3, myocardium
-constexpr double kGravity = 9.81;    // m/s^2
-constexpr double kStep = 1e-3;       // s
+constexpr double kVolumeDensity = 1060.0;  // kg/m^3, myocardium
+constexpr double kVolumeGravity = 9.81;    // m/s^2
+constexpr double kVolumeStep = 1e-3;       // s
 constexpr std::size_t kCsvEvery = 5;  // steps per CSV row
-const Eigen::Vector3d kSize(0.06, 0.06, 0.12);
+const Eigen::Vector3d kVolumeSize(0.06, 0.06, 0.12);
 
 struct VolumeRun {
   std::string mesh;
@@ -41,11 +41,11 @@ struct VolumeRun {
 
 // Fibre along z (the long axis), sheet along x, sheet-normal along y.
 Mesh hangingCuboid(TetSplit split) {
-  Mesh mesh = cuboid(Eigen::Vector3i(6, 6, 12), kSize, split);
+  Mesh mesh = cuboid(Eigen::Vector3i(6, 6, 12), kVolumeSize, split);
   Eigen::Matrix3d frame;
   frame << Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY();
   setFibreFrame(mesh, frame);
-  for (int n : nodesAt(mesh, 2, kSize.z())) mesh.nodeTags[n] = kFixedAll;
+  for (int n : nodesAt(mesh, 2, kVolumeSize.z())) mesh.nodeTags[n] = kFixedAll;
   return mesh;
 }
 
@@ -53,10 +53,10 @@ VolumeRun hang(const std::string& meshName, TetSplit split, double pKpa, double 
   VolumeRun run;
   run.mesh = meshName;
   run.pKpa = pKpa;
-  System s(hangingCuboid(split), {Material::isotropic(1.0, 0.0, kDensity)});
+  System s(hangingCuboid(split), {Material::isotropic(1.0, 0.0, kVolumeDensity)});
   s.models.push_back(hunterModel(s.mesh));
   if (pKpa > 0.0) s.models.push_back(volumeModel(s.mesh, 1e3 * pKpa));
-  s.models.push_back(std::make_unique<GravityModel>(s.mass, Eigen::Vector3d(0, 0, -kGravity)));
+  s.models.push_back(std::make_unique<GravityModel>(s.mass, Eigen::Vector3d(0, 0, -kVolumeGravity)));
   s.updateConstraints();
   BackwardEulerParams params;
   params.preconditioner = BackwardEulerParams::Preconditioning::kCholesky;
@@ -75,9 +75,9 @@ VolumeRun hang(const std::string& meshName, TetSplit split, double pKpa, double 
     run.sag.push_back(-z / static_cast<double>(bottom.size()));
   };
   record();
-  const int steps = static_cast<int>(std::lround(duration / kStep));
+  const int steps = static_cast<int>(std::lround(duration / kVolumeStep));
   for (int k = 0; k < steps; ++k) {
-    const StepReport r = integrator.advance(s, kStep);
+    const StepReport r = integrator.advance(s, kVolumeStep);
     if (!r.ok || !s.state.x.allFinite()) {
       run.ok = false;
       run.failure = r.ok ? "non-finite state" : r.failure;
@@ -125,7 +125,7 @@ int runVolume(const Args& args) {
                         "max_abs_centre_volume_change,final_sag_m,below_1pct,ok,failure\n");
   std::printf("\nVolume preservation under gravity (Sec. 2.8.2): 6 x 6 x 12 cm cuboid, top fixed, "
               "Hunter law + p (det F - 1)^2, backward Euler h = %g s, %g s\n",
-              kStep, duration);
+              kVolumeStep, duration);
   std::printf("%-9s %9s %14s %14s %20s %10s %s\n", "mesh", "p (kPa)", "max |dV/V0|",
               "final dV/V0", "max |dV/V0| (centre)", "sag (mm)", "below 1 %");
   bool claimHolds = true;
