@@ -66,10 +66,10 @@ if(TT_CORE_O3 AND
 endif()
 set_target_properties(tissue_trainer_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
 # The core compiles in batches of 8 files, each batch one translation unit (CMake's unity
-# build): a batch parses and instantiates once what its files share (the law registrations
-# instantiate the same Eigen products for every law). It halves the core's compilation (575 -> 291 s of one core, measured
-# in docs/building.md). Helpers in unnamed namespaces must therefore have names distinct
-# across the core's files. TT_CORE_UNITY=OFF compiles file by file.
+# build): a batch parses and instantiates once what its files share. It cut the core's
+# compilation from 575 to 325 s of one core (docs/building.md). Helpers in unnamed namespaces
+# must therefore have names distinct across the core's files. TT_CORE_UNITY=OFF compiles file
+# by file.
 # The law registrations (20-30 s each) compile one by one, so that an edit of any core file
 # recompiles at most about 30 s: batched together they took 58 s.
 option(TT_CORE_UNITY "Compile the core in unity batches" ON)
