@@ -186,7 +186,8 @@ bool EquilibriumSolver::newtonStepBelowRoundOff(const Eigen::VectorXd& x) const 
   const double scale = x.lpNorm<Eigen::Infinity>();
   // A step with a NaN must not pass as converged (the max norm may skip the NaN).
   return scale > 0.0 && dx_.allFinite() &&
-         dx_.lpNorm<Eigen::Infinity>() <= kUnitsInLastPlace * std::numeric_limits<double>::epsilon() * scale;
+         dx_.lpNorm<Eigen::Infinity>() <=
+             kUnitsInLastPlace * std::numeric_limits<double>::epsilon() * scale;
 }
 
 // The line search compares energies with the one kept from the last force pass; the

@@ -22,18 +22,6 @@ namespace {
 
 using namespace oscillators;
 
-// Least-squares slope of log(error) against log(h).
-double slopeOf(const std::vector<double>& h, const std::vector<double>& err) {
-  Eigen::MatrixXd A(h.size(), 2);
-  Eigen::VectorXd b(h.size());
-  for (size_t i = 0; i < h.size(); ++i) {
-    A(i, 0) = std::log(h[i]);
-    A(i, 1) = 1.0;
-    b[i] = std::log(err[i]);
-  }
-  return A.colPivHouseholderQr().solve(b)[0];
-}
-
 Abm3Params fixedStep(double h, Abm3Params::Start start) {
   Abm3Params p;
   p.adaptive = false;
@@ -82,7 +70,7 @@ double measuredOrder(double (*error)(int, Abm3Params::Start), Abm3Params::Start 
     hs.push_back(1.0 / n);
     errs.push_back(error(n, start));
   }
-  const double slope = slopeOf(hs, errs);
+  const double slope = logSlope(hs, errs);
   std::printf("[ order    ] abm3 %-30s errors %.3e %.3e %.3e %.3e, slope %.3f\n", label,
               errs[0], errs[1], errs[2], errs[3], slope);
   return slope;

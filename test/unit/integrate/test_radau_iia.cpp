@@ -5,6 +5,7 @@
 #include <iostream>
 #include <memory>
 
+#include "oscillators.h"
 #include "tissue_trainer/core/integrate/radau_iia.h"
 #include "tissue_trainer/core/system.h"
 
@@ -92,17 +93,6 @@ std::unique_ptr<System> springSystem(int nodes, double mass, double anchor, doub
   system->mass = Eigen::VectorXd::Constant(3 * nodes, mass);
   system->models.push_back(std::make_unique<TestSprings>(mesh.rest, anchor, pairs, k, k3));
   return system;
-}
-
-double slope(const std::vector<double>& x, const std::vector<double>& y) {
-  Eigen::MatrixXd A(x.size(), 2);
-  Eigen::VectorXd b(x.size());
-  for (size_t i = 0; i < x.size(); ++i) {
-    A(i, 0) = std::log(x[i]);
-    A(i, 1) = 1.0;
-    b[i] = std::log(y[i]);
-  }
-  return A.colPivHouseholderQr().solve(b)[0];
 }
 
 // ---- Constants ---------------------------------------------------------------------------
@@ -223,7 +213,7 @@ TEST(RadauIIA, FixedStepGlobalErrorIsOfOrderFive) {
     errors.push_back(oscillatorError(options, 4.0));
     std::cout << "  fixed h = " << steps.back() << "  error = " << errors.back() << "\n";
   }
-  const double order = slope(steps, errors);
+  const double order = oscillators::logSlope(steps, errors);
   std::cout << "  fitted order " << order << "\n";
   EXPECT_NEAR(order, 5.0, 0.5);
 }
@@ -268,7 +258,7 @@ TEST(RadauIIA, AdaptiveErrorTracksTheTolerance) {
     EXPECT_LT(errors.back(), 100 * tol);
     EXPECT_GT(errors.back(), 1e-3 * tol);  // not wastefully tight either
   }
-  const double rate = slope(tolerances, errors);
+  const double rate = oscillators::logSlope(tolerances, errors);
   std::cout << "  error ~ tol^" << rate << "\n";
   EXPECT_NEAR(rate, 1.0, 0.3);
 }

@@ -26,7 +26,6 @@ namespace {
 
 using namespace oscillators;
 
-
 Rk4AdaptiveParams fixedStep(double h) {
   Rk4AdaptiveParams p;
   p.adaptive = false;
