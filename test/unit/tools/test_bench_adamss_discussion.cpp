@@ -5,49 +5,34 @@
 // depend on the machine (matrix and factor nonzeros, PCG iterations, their product).
 #if defined(TT_BENCH_ADAMSS_PATH)
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
 
 #include "../csv_test_util.h"
+#include "program_test_util.h"
 
 namespace tt {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path outputDir() { return fs::temp_directory_path() / "tt_bench_adamss_discussion"; }
+fs::path discussionDir() { return fs::temp_directory_path() / "tt_bench_adamss_discussion"; }
 
-int runQuick(const std::string& arguments) {
-  fs::create_directories(outputDir());
-  const std::string command = std::string(TT_BENCH_ADAMSS_PATH) + " " + arguments +
-                              " --quick --no-plot --out " + outputDir().string() + " > " +
-                              (outputDir() / "log.txt").string() + " 2>&1";
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+// Runs `bench_adamss ARGUMENTS --quick --no-plot` into discussionDir(); the exit code.
+int runDiscussionExperiment(const std::string& arguments) {
+  fs::create_directories(discussionDir());
+  return test::exitCodeOf(std::string(TT_BENCH_ADAMSS_PATH) + " " + arguments +
+                              " --quick --no-plot --out " + discussionDir().string(),
+                          discussionDir() / "log.txt");
 }
 
-std::vector<std::map<std::string, std::string>> readRows(const fs::path& path) {
-  const auto table = test::readCsv(path);
-  std::vector<std::map<std::string, std::string>> rows;
-  for (size_t i = 1; i < table.size(); ++i) {
-    std::map<std::string, std::string> row;
-    for (size_t c = 0; c < table[0].size() && c < table[i].size(); ++c)
-      row[table[0][c]] = table[i][c];
-    rows.push_back(row);
-  }
-  return rows;
-}
-
-double number(const std::map<std::string, std::string>& row, const std::string& key) {
-  return std::stod(row.at(key));
-}
+using test::namedRows;
+using test::number;
 
 // Sec. 2.9.3: with the explicit methods the volume oscillates; backward Euler at the same step
 // (5e-5 s) "removed the unwanted oscillation of the volume". Measured as the fast part of dV/V0
@@ -55,9 +40,9 @@ double number(const std::map<std::string, std::string>& row, const std::string& 
 // ABM3) against 5.7e-7 (backward Euler), a factor 5.6; asserted: more than 3. The forward
 // Euler method diverges (no damping).
 TEST(BenchAdamssDiscussion, BackwardEulerRemovesTheVolumeOscillationOfTheExplicitMethods) {
-  ASSERT_EQ(runQuick("oscillation"), 0);
+  ASSERT_EQ(runDiscussionExperiment("oscillation"), 0);
   std::map<std::string, std::map<std::string, std::string>> byIntegrator;
-  for (const auto& r : readRows(outputDir() / "oscillation_summary.csv"))
+  for (const auto& r : namedRows(discussionDir() / "oscillation_summary.csv"))
     byIntegrator[r.at("integrator")] = r;
   ASSERT_EQ(byIntegrator.size(), 4u);
   EXPECT_EQ(byIntegrator.at("explicit_euler").at("ok"), "0");  // unstable without damping
@@ -75,8 +60,8 @@ TEST(BenchAdamssDiscussion, BackwardEulerRemovesTheVolumeOscillationOfTheExplici
 // and faster than the stiffening a beam that does not lock would show (the locking factor,
 // deflection x E(p) / E relative to p = 0, falls too and ends well below 1).
 TEST(BenchAdamssDiscussion, TetLockingGrowsWithTheVolumeParameter) {
-  ASSERT_EQ(runQuick("locking"), 0);
-  const auto rows = readRows(outputDir() / "locking.csv");
+  ASSERT_EQ(runDiscussionExperiment("locking"), 0);
+  const auto rows = namedRows(discussionDir() / "locking.csv");
   ASSERT_GE(rows.size(), 4u);
   for (size_t i = 0; i < rows.size(); ++i) {
     ASSERT_TRUE(rows[i].at("failure").empty()) << rows[i].at("failure");
@@ -91,8 +76,8 @@ TEST(BenchAdamssDiscussion, TetLockingGrowsWithTheVolumeParameter) {
 // Sec. 2.1.4: the spring cantilever under the same load at three resolutions: the tip
 // deflection converges (each refinement changes it by less than the one before).
 TEST(BenchAdamssDiscussion, TheSpringCantileverConvergesWithTheResolution) {
-  ASSERT_EQ(runQuick("resolution"), 0);
-  const auto rows = readRows(outputDir() / "resolution.csv");
+  ASSERT_EQ(runDiscussionExperiment("resolution"), 0);
+  const auto rows = namedRows(discussionDir() / "resolution.csv");
   ASSERT_EQ(rows.size(), 3u);
   for (const auto& r : rows) ASSERT_TRUE(r.at("failure").empty()) << r.at("failure");
   const double d1 = number(rows[1], "change_from_previous_m"),
@@ -110,8 +95,8 @@ TEST(BenchAdamssDiscussion, TheSpringCantileverConvergesWithTheResolution) {
 // work of a step's iterations grows with slope 1.4, not 1 (1.2 .. 1.6 asserted): the linear
 // relation of Fig. 2.29 does not hold for this solver's work.
 TEST(BenchAdamssDiscussion, TheStepMatrixGrowsLinearlyAsFig229ShowsItsFactorDoesNot) {
-  ASSERT_EQ(runQuick("scaling --preconditioners cholesky --sizes 3,4,5,6 --steps 20"), 0);
-  const auto fits = readRows(outputDir() / "scaling_fits.csv");
+  ASSERT_EQ(runDiscussionExperiment("scaling --preconditioners cholesky --sizes 3,4,5,6 --steps 20"), 0);
+  const auto fits = namedRows(discussionDir() / "scaling_fits.csv");
   ASSERT_EQ(fits.size(), 1u);
   EXPECT_NEAR(number(fits[0], "slope_matrix_nonzeros"), 1.0, 0.1);
   EXPECT_LT(std::abs(number(fits[0], "slope_iterations")), 0.3);

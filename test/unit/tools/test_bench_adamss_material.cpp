@@ -4,50 +4,33 @@
 // independently, so a wrong law in the models or in the benchmark's theory fails.
 #if defined(TT_BENCH_ADAMSS_PATH)
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
 
 #include "../csv_test_util.h"
+#include "program_test_util.h"
 
 namespace tt {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path outputDir() { return fs::temp_directory_path() / "tt_bench_adamss_material"; }
+fs::path materialDir() { return fs::temp_directory_path() / "tt_bench_adamss_material"; }
 
-// Runs `bench_adamss EXPERIMENT --quick --no-plot` into outputDir(); the exit code.
-int runQuick(const std::string& experiment) {
-  fs::create_directories(outputDir());
-  const std::string command = std::string(TT_BENCH_ADAMSS_PATH) + " " + experiment +
-                              " --quick --no-plot --out " + outputDir().string() + " > " +
-                              (outputDir() / (experiment + ".log")).string() + " 2>&1";
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+// Runs `bench_adamss EXPERIMENT --quick --no-plot` into materialDir(); the exit code.
+int runMaterialExperiment(const std::string& experiment) {
+  fs::create_directories(materialDir());
+  return test::exitCodeOf(std::string(TT_BENCH_ADAMSS_PATH) + " " + experiment +
+                              " --quick --no-plot --out " + materialDir().string(),
+                          materialDir() / (experiment + ".log"));
 }
 
-// The rows of a CSV as maps from the header's names.
-std::vector<std::map<std::string, std::string>> readRows(const fs::path& path) {
-  const auto table = test::readCsv(path);
-  std::vector<std::map<std::string, std::string>> rows;
-  for (size_t i = 1; i < table.size(); ++i) {
-    std::map<std::string, std::string> row;
-    for (size_t c = 0; c < table[0].size() && c < table[i].size(); ++c)
-      row[table[0][c]] = table[i][c];
-    rows.push_back(row);
-  }
-  return rows;
-}
-
-double number(const std::map<std::string, std::string>& row, const std::string& key) {
-  return std::stod(row.at(key));
-}
+using test::namedRows;
+using test::number;
 
 // The voxel (6 tets and 1 hex) stretched along each axis in 4 steps to 20 %: the theory is the
 // Hunter law's P = lambda w_ll'((lambda^2 - 1)/2) at lambda = 1.05 ... 1.20 (an independent
@@ -55,14 +38,14 @@ double number(const std::map<std::string, std::string>& row, const std::string& 
 // stay zero and the virtual hexahedron is exact for an affine deformation). A law with another
 // stress convention or constant would be off by far more than the tolerance.
 TEST(BenchAdamssMaterial, QuickStretchOfTheVoxelFollowsTheHunterCurve) {
-  ASSERT_EQ(runQuick("stretch"), 0);
+  ASSERT_EQ(runMaterialExperiment("stretch"), 0);
   const std::map<std::string, std::vector<double>> reference = {
       {"fibre", {739.488, 1988.19, 4425.18, 10871.4}},
       {"sheet", {88.576, 333.813, 1071.61, 3721.62}},
       {"normal", {33.902, 75.2966, 125.647, 186.897}}};
   std::map<std::string, int> seen;
   int turned = 0;
-  for (const auto& row : readRows(outputDir() / "stretch.csv")) {
+  for (const auto& row : namedRows(materialDir() / "stretch.csv")) {
     if (row.at("loading") == "traction") {
       // The turned frame under the dead traction of the turned law's uniaxial stress (solved at
       // a point by the benchmark, apart from the law of the models): the 48 tets reach the
@@ -104,14 +87,14 @@ TEST(BenchAdamssMaterial, QuickStretchOfTheVoxelFollowsTheHunterCurve) {
 // F = I + gamma d (x) n, with W (kPa) at gamma = 0.1 ... 0.5 from an independent evaluation;
 // the trapezoidal work (Eq. 2.151) is within 12 % of it at these coarse steps.
 TEST(BenchAdamssMaterial, QuickShearOfTheVoxelStoresTheHunterEnergy) {
-  ASSERT_EQ(runQuick("shear"), 0);
+  ASSERT_EQ(runMaterialExperiment("shear"), 0);
   const double volume = 0.005 * 0.005 * 0.005;
   const std::map<std::string, std::vector<double>> reference = {
       {"fn", {0.00553738, 0.0275352, 0.0795931, 0.186411, 0.394093}},
       {"sf", {0.00540393, 0.0253468, 0.0680243, 0.14735, 0.289005}},
       {"ns", {0.00358472, 0.0163097, 0.042166, 0.0870176, 0.159538}}};
   int checked = 0;
-  for (const auto& row : readRows(outputDir() / "shear.csv")) {
+  for (const auto& row : namedRows(materialDir() / "shear.csv")) {
     const double gamma = number(row, "shear");
     const int step = static_cast<int>(std::lround(gamma / 0.1));
     if (step == 0) continue;
@@ -133,10 +116,10 @@ TEST(BenchAdamssMaterial, QuickShearOfTheVoxelStoresTheHunterEnergy) {
 // the fitted axial ones) stay within 5 % of the law's energy, and Table 2.2's (several times the
 // law's energy here) do worse.
 TEST(BenchAdamssMaterial, QuickSpringFitIsNoWorseThanTable22) {
-  ASSERT_EQ(runQuick("spring_fit"), 0);
+  ASSERT_EQ(runMaterialExperiment("spring_fit"), 0);
   std::map<std::string, double> residual;
   int rows = 0;
-  for (const auto& row : readRows(outputDir() / "spring_fit.csv")) {
+  for (const auto& row : namedRows(materialDir() / "spring_fit.csv")) {
     const double d = number(row, "value_Pa") - number(row, "theory_Pa");
     residual[row.at("coefficients") + " " + row.at("measure") + " " + row.at("axis")] += d * d;
     if (row.at("coefficients") == "fitted" && row.at("measure") == "shear_energy")
@@ -152,7 +135,7 @@ TEST(BenchAdamssMaterial, QuickSpringFitIsNoWorseThanTable22) {
     EXPECT_LE(fitted, table * (1.0 + 1e-9)) << curve;
     EXPECT_GT(table, 0.0);
   }
-  const auto coefficients = readRows(outputDir() / "spring_fit_coefficients.csv");
+  const auto coefficients = namedRows(materialDir() / "spring_fit_coefficients.csv");
   ASSERT_EQ(coefficients.size(), 6u);
   for (const auto& row : coefficients) {
     EXPECT_GE(number(row, "fitted_k1_kPa"), 0.0);

@@ -5,17 +5,15 @@
 #ifdef TT_BENCH_ADAMSS_PATH
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
 
 #include "../csv_test_util.h"
+#include "program_test_util.h"
 
 namespace tt {
 namespace {
@@ -25,24 +23,11 @@ namespace fs = std::filesystem;
 fs::path volumeMeshOutputDir() { return fs::temp_directory_path() / "tt_bench_adamss_quick"; }
 
 int runBench(const std::string& arguments) {
-  const std::string command = std::string(TT_BENCH_ADAMSS_PATH) + " " + arguments + " > " +
-                              (volumeMeshOutputDir() / "log.txt").string() + " 2>&1";
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return test::exitCodeOf(std::string(TT_BENCH_ADAMSS_PATH) + " " + arguments,
+                          volumeMeshOutputDir() / "log.txt");
 }
 
-// Rows of a CSV file as column name -> text.
-std::vector<std::map<std::string, std::string>> namedRows(const fs::path& path) {
-  const auto rows = test::readCsv(path);
-  std::vector<std::map<std::string, std::string>> named;
-  if (rows.empty()) return named;
-  for (size_t i = 1; i < rows.size(); ++i) {
-    std::map<std::string, std::string> row;
-    for (size_t c = 0; c < rows[0].size() && c < rows[i].size(); ++c) row[rows[0][c]] = rows[i][c];
-    named.push_back(row);
-  }
-  return named;
-}
+using test::namedRows;
 
 // The Hunter law stretched 15 % along its fibres: the homogeneous state F = diag(1, 1, 1.15)
 // is the exact solution on every conforming mesh, and its nominal stress is

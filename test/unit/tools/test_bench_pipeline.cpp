@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "../csv_test_util.h"
+#include "program_test_util.h"
 
 namespace tt {
 namespace {
@@ -33,8 +34,7 @@ using test::splitCsv;
 
 // Runs command with its output in pipelineOutputDir()/log.
 int run(const std::string& command, const std::string& log) {
-  const int status = std::system((command + " > " + (pipelineOutputDir() / log).string() + " 2>&1").c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return test::exitCodeOf(command, pipelineOutputDir() / log);
 }
 
 class BenchPipeline : public ::testing::Test {

@@ -3,29 +3,26 @@
 // the verdict says linear depends on the machine's load, so it is not asserted here.
 #ifdef TT_BENCH_FRAME_OVERHEAD_PATH
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
 
 #include "../csv_test_util.h"
+#include "program_test_util.h"
 
 namespace tt {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path outputDir() { return fs::temp_directory_path() / "tt_frame_overhead_test"; }
+fs::path frameOverheadDir() { return fs::temp_directory_path() / "tt_frame_overhead_test"; }
 
-// Runs the benchmark with `arguments`, its output in outputDir()/log; the exit code.
-int run(const std::string& arguments, const std::string& log) {
-  const std::string command = std::string(TT_BENCH_FRAME_OVERHEAD_PATH) + " " + arguments +
-                              " > " + (outputDir() / log).string() + " 2>&1";
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+// Runs the benchmark with `arguments`, its output in frameOverheadDir()/log; the exit code.
+int runFrameOverhead(const std::string& arguments, const std::string& log) {
+  return test::exitCodeOf(std::string(TT_BENCH_FRAME_OVERHEAD_PATH) + " " + arguments,
+                          frameOverheadDir() / log);
 }
 
 std::vector<std::string> lines(const fs::path& file) {
@@ -36,10 +33,10 @@ std::vector<std::string> lines(const fs::path& file) {
 }
 
 TEST(FrameOverheadBench, QuickRunWritesARowPerSizeAndAVerdict) {
-  fs::remove_all(outputDir());
-  fs::create_directories(outputDir());
-  const fs::path csv = outputDir() / "frame_overhead.csv";
-  const int exit = run("--quick --csv " + csv.string(), "quick.log");
+  fs::remove_all(frameOverheadDir());
+  fs::create_directories(frameOverheadDir());
+  const fs::path csv = frameOverheadDir() / "frame_overhead.csv";
+  const int exit = runFrameOverhead("--quick --csv " + csv.string(), "quick.log");
   // 0: linear; 1: not linear (a verdict on this machine's timing, not a crash).
   ASSERT_TRUE(exit == 0 || exit == 1) << "exit " << exit;
   const auto rows = test::readCsv(csv);
@@ -57,16 +54,16 @@ TEST(FrameOverheadBench, QuickRunWritesARowPerSizeAndAVerdict) {
     if (r > 1) EXPECT_GT(std::stoi(rows[r][0]), std::stoi(rows[r - 1][0]));
   }
   bool verdict = false;
-  for (const std::string& line : lines(outputDir() / "quick.log"))
+  for (const std::string& line : lines(frameOverheadDir() / "quick.log"))
     verdict = verdict || line.rfind("verdict: linear", 0) == 0 || line.find("NOT LINEAR") != std::string::npos;
   EXPECT_TRUE(verdict);
 }
 
 TEST(FrameOverheadBench, BadInputIsOneErrorLine) {
-  fs::create_directories(outputDir());
+  fs::create_directories(frameOverheadDir());
   for (const std::string& arguments : {"--sizes 600,abc", "--frames 0", "--sizes 600", "--fast"}) {
-    EXPECT_EQ(run(arguments, "bad.log"), 2) << arguments;
-    const auto out = lines(outputDir() / "bad.log");
+    EXPECT_EQ(runFrameOverhead(arguments, "bad.log"), 2) << arguments;
+    const auto out = lines(frameOverheadDir() / "bad.log");
     ASSERT_EQ(out.size(), 1u) << arguments;
     EXPECT_NE(out[0].find("expect"), std::string::npos) << out[0];
   }
