@@ -119,21 +119,17 @@ TEST_F(BenchPipeline, ScalingCsvAndFits) {
   for (size_t i = 1; i < fits.size(); ++i) EXPECT_TRUE(std::isfinite(std::stod(fits[i][2])));
 }
 
-// Rows of a CSV file as column name -> text, the header checked against `columns`.
+// Rows of a CSV file as column name -> text (test::namedRows), the header checked against
+// `columns` and every row's length against the header's.
 std::vector<std::map<std::string, std::string>> namedRows(const fs::path& path,
                                                           const std::vector<std::string>& columns) {
   const auto rows = readCsv(path);
   EXPECT_GT(rows.size(), 1u) << path;
   if (rows.empty()) return {};
   EXPECT_EQ(rows[0], columns) << path;
-  std::vector<std::map<std::string, std::string>> named;
-  for (size_t i = 1; i < rows.size(); ++i) {
+  for (size_t i = 1; i < rows.size(); ++i)
     EXPECT_EQ(rows[i].size(), columns.size()) << path << " row " << i;
-    std::map<std::string, std::string> row;
-    for (size_t c = 0; c < columns.size() && c < rows[i].size(); ++c) row[columns[c]] = rows[i][c];
-    named.push_back(row);
-  }
-  return named;
+  return test::namedRows(path);
 }
 
 const std::set<std::string> kOutcomes = {"stable", "recovered", "failed"};

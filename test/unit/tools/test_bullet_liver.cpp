@@ -6,13 +6,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "../csv_test_util.h"
+#include "program_test_util.h"
 
 namespace tt {
 namespace {
@@ -25,9 +25,8 @@ TEST(BulletLiver, SmallLiverRunWritesFiniteRowsForBothSimulators) {
   fs::create_directories(dir);
   const std::string command = std::string(TT_BENCH_BULLET_LIVER_PATH) +
                               " --tetgen none --steps 3 --out " + dir.string() + " --work " +
-                              (dir / "work").string() + " > " + (dir / "run.log").string() + " 2>&1";
-  const int status = std::system(command.c_str());
-  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+                              (dir / "work").string();
+  ASSERT_EQ(test::exitCodeOf(command, dir / "run.log"), 0);
 
   const std::vector<std::vector<std::string>> rows = test::readCsv(dir / "bullet_liver.csv");
   ASSERT_FALSE(rows.empty());

@@ -6,13 +6,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "../csv_test_util.h"
+#include "program_test_util.h"
 
 namespace tt {
 namespace {
@@ -24,10 +24,8 @@ TEST(BulletPeer, QuickStaticRunWritesBulletRowsBesideOurPair) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   const std::string command = std::string(TT_BENCH_BULLET_PEER_PATH) +
-                              " --quick --problems cantilever_static --out " + dir.string() +
-                              " > " + (dir / "run.log").string() + " 2>&1";
-  const int status = std::system(command.c_str());
-  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+                              " --quick --problems cantilever_static --out " + dir.string();
+  ASSERT_EQ(test::exitCodeOf(command, dir / "run.log"), 0);
 
   const std::vector<std::vector<std::string>> rows = test::readCsv(dir / "bullet_peer.csv");
   ASSERT_FALSE(rows.empty());
