@@ -93,10 +93,6 @@ tt_build() {
     fi
     # Compilations with a precompiled header are cached only with this sloppiness.
     export CCACHE_SLOPPINESS="${CCACHE_SLOPPINESS:-pch_defines,time_macros}"
-    # Depend mode takes a compilation's inputs from the compiler's own dependency file (CMake
-    # asks for one with -MD) instead of running the preprocessor first: a miss, every
-    # compilation of a fresh clone, then costs next to nothing over the plain compiler.
-    export CCACHE_DEPEND="${CCACHE_DEPEND:-1}"
     launcher=ccache cache_note=", ccache"
   fi
   tt_say "building ${targets[*]} in $TT_WORKSPACE (Release, $TT_JOBS jobs$cache_note)"
