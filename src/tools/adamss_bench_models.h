@@ -21,8 +21,9 @@
 #include "tissue_trainer/core/material/hunter.h"
 #include "tissue_trainer/core/material/volume.h"
 #include "tissue_trainer/core/model/adamss/virtual_hexahedron.h"
-#include "tissue_trainer/core/scene/registry.h"
-#include "tissue_trainer/core/scene/yaml_reader.h"
+#include "tissue_trainer/core/registry/model_context.h"
+#include "tissue_trainer/core/registry/registry.h"
+#include "tissue_trainer/core/registry/yaml_reader.h"
 #include "tissue_trainer/core/system.h"
 
 namespace tt {

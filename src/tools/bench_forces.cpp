@@ -31,7 +31,8 @@
 #include "tissue_trainer/core/model/tensor_mass.h"
 #include "tissue_trainer/core/model/tet_loops.h"
 #include "tissue_trainer/core/parallel.h"
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/model_context.h"
+#include "tissue_trainer/core/registry/registry.h"
 
 namespace {
 

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "tissue_trainer/core/integrate/backward_euler.h"
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/registry.h"
 #include "tissue_trainer/core/system.h"
 
 namespace tt {

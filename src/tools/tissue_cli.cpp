@@ -27,7 +27,7 @@
 #include "tissue_trainer/core/mesh/mesh_order.h"
 #include "tissue_trainer/core/mesh/quality.h"
 #include "tissue_trainer/core/parallel.h"
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/registry.h"
 #include "tissue_trainer/core/scene/scene.h"
 #include "tissue_trainer/core/scene/scene_runner.h"
 

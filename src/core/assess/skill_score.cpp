@@ -6,8 +6,8 @@
 #include <cmath>
 
 #include "tissue_trainer/core/error.h"
-#include "tissue_trainer/core/scene/yaml_file.h"
-#include "tissue_trainer/core/scene/yaml_reader.h"
+#include "tissue_trainer/core/registry/yaml_file.h"
+#include "tissue_trainer/core/registry/yaml_reader.h"
 
 namespace tt {
 

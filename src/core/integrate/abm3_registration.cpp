@@ -1,6 +1,6 @@
 // Registers abm3 in the scene registry.
 #include "tissue_trainer/core/integrate/abm3.h"
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
 

@@ -2,7 +2,7 @@
 #include <algorithm>
 
 #include "tissue_trainer/core/integrate/backward_euler.h"
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
 

@@ -1,6 +1,6 @@
 // Registers explicit_euler and symplectic_euler (one class, two schemes).
 #include "tissue_trainer/core/integrate/explicit_euler.h"
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
 namespace {

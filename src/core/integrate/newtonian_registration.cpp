@@ -1,6 +1,6 @@
 // Registers newtonian in the scene registry.
 #include "tissue_trainer/core/integrate/newtonian.h"
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
 

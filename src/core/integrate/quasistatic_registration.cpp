@@ -1,6 +1,6 @@
 // Registers quasistatic in the scene registry.
 #include "tissue_trainer/core/integrate/quasistatic.h"
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
 

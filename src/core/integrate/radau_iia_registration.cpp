@@ -1,6 +1,6 @@
 // Registers radau_iia in the scene registry.
 #include "tissue_trainer/core/integrate/radau_iia.h"
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
 

@@ -1,6 +1,6 @@
 // Registers rk4_adaptive in the scene registry.
 #include "tissue_trainer/core/integrate/rk4_adaptive.h"
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
 

@@ -75,4 +75,27 @@ ElasticConstants readElasticConstants(const YamlEntry& m, const std::string& rea
   return young ? fromYoungModulus(m, reader, unit) : fromLame(m, reader, unit);
 }
 
+const ElasticConstants& lameConstants(const ModelContext& context, std::size_t m,
+                                      const std::string& reader) {
+  auto& cache = context.elasticRead;
+  if (cache.size() < context.materials.size()) cache.resize(context.materials.size());
+  std::optional<ElasticConstants>& read = cache.at(m);
+  if (!read) {
+    if (const YamlEntry* spec = context.entry(m))
+      read = readElasticConstants(*spec, reader);
+    else if (context.materials[m].elastic)
+      read = context.materials[m].elastic;
+    else
+      throw std::invalid_argument(reader + ": material " + std::to_string(m) +
+                                  " gives no Lame constants");
+  }
+  return *read;
+}
+
+std::vector<Material> withLameConstants(const ModelContext& context, const std::string& reader) {
+  std::vector<Material> out = context.materials;
+  for (std::size_t m = 0; m < out.size(); ++m) out[m].elastic = lameConstants(context, m, reader);
+  return out;
+}
+
 }  // namespace tt

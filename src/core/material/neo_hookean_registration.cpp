@@ -1,4 +1,5 @@
 // Registers the law neo_hookean (material/neo_hookean.h).
+#include "tissue_trainer/core/material/elastic_constants_reader.h"
 #include "tissue_trainer/core/material/neo_hookean.h"
 #include "tissue_trainer/core/model/law_model_factory.h"
 
@@ -11,7 +12,7 @@ void registerNeoHookeanLaw(Registry& registry) {
       "lambda/mu; J > 0, so inverting scenes add inversion_threshold)",
       {},
       lawModelFactory<NeoHookeanLaw>([](const ModelContext& context, std::size_t m) {
-        const ElasticConstants& k = context.elastic(m, NeoHookeanLaw::kName);
+        const ElasticConstants& k = lameConstants(context, m, NeoHookeanLaw::kName);
         if (context.entry(m) && (k.lambdaL != k.lambda || k.muL != k.mu))
           context.entry(m)->fail("neo_hookean is isotropic: expected no longitudinal constants");
         return NeoHookeanLaw::constants(k);

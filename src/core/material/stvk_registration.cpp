@@ -1,4 +1,5 @@
 // Registers the law stvk (material/stvk.h).
+#include "tissue_trainer/core/material/elastic_constants_reader.h"
 #include "tissue_trainer/core/material/stvk.h"
 #include "tissue_trainer/core/model/law_model_factory.h"
 
@@ -12,7 +13,7 @@ void registerStvkLaw(Registry& registry) {
       "fibre axis",
       {},
       lawModelFactory<StvkLaw>([](const ModelContext& context, std::size_t m) {
-        return StvkLaw::constants(context.elastic(m, StvkLaw::kName));
+        return StvkLaw::constants(lameConstants(context, m, StvkLaw::kName));
       })});
 }
 

@@ -10,8 +10,9 @@
 #include "tissue_trainer/core/error.h"
 #include "tissue_trainer/core/mesh/mesh_io.h"
 #include "tissue_trainer/core/model/collision.h"
-#include "tissue_trainer/core/scene/registry.h"
-#include "tissue_trainer/core/scene/selection.h"
+#include "tissue_trainer/core/registry/model_context.h"
+#include "tissue_trainer/core/registry/registry.h"
+#include "tissue_trainer/core/registry/selection.h"
 
 namespace tt {
 namespace {

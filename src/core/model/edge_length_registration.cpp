@@ -1,6 +1,7 @@
 // Registers edge_length (and its preset edge_length_literal) in the scene registry.
+#include "tissue_trainer/core/material/elastic_constants_reader.h"
 #include "tissue_trainer/core/model/edge_length.h"
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
 
@@ -20,7 +21,7 @@ void registerEdgeLengthModel(Registry& registry) {
   e.make = [](const YamlEntry& spec, const ModelContext& c) -> std::unique_ptr<ForceModel> {
     EdgeLengthPath path = EdgeLengthPath::kFast;
     if (spec.has("path")) parseEdgeLengthPath(spec["path"].choice({"fast", "literal", "eq30"}), path);
-    return std::make_unique<EdgeLengthModel>(c.mesh, c.withElasticConstants("edge_length"), path,
+    return std::make_unique<EdgeLengthModel>(c.mesh, withLameConstants(c, "edge_length"), path,
                                              spec.boolean("psd_projection", false));
   };
   registry.add(std::move(e));

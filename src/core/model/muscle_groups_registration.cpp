@@ -9,7 +9,7 @@
 #include "../scene/scene_fibres.h"
 #include "tissue_trainer/core/model/law_model_factory.h"
 #include "tissue_trainer/core/model/muscle_groups.h"
-#include "tissue_trainer/core/scene/selection.h"
+#include "tissue_trainer/core/registry/selection.h"
 
 namespace tt {
 namespace {

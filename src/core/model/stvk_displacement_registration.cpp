@@ -1,6 +1,7 @@
 // Registers stvk_displacement (and its preset stvk_displacement_paper_literal).
+#include "tissue_trainer/core/material/elastic_constants_reader.h"
 #include "tissue_trainer/core/model/stvk_displacement.h"
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
 
@@ -19,7 +20,7 @@ void registerStvkDisplacementModel(Registry& registry) {
     if (spec.has("alpha_sign"))
       parseAlphaSign(spec["alpha_sign"].choice({"correct", "paper_literal"}), sign);
     return std::make_unique<StvkDisplacementModel>(
-        c.mesh, c.withElasticConstants("stvk_displacement"), sign);
+        c.mesh, withLameConstants(c, "stvk_displacement"), sign);
   };
   registry.add(std::move(e));
 }

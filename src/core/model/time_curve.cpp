@@ -5,7 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "tissue_trainer/core/scene/yaml_reader.h"
+#include "tissue_trainer/core/registry/yaml_reader.h"
 
 namespace tt {
 namespace {

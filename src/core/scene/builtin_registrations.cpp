@@ -2,7 +2,7 @@
 // not self-registering objects). A new model, law or integrator adds its declaration and its
 // call here, in the same order; test_registry.cpp checks that every register*(Registry&)
 // defined in a *_registration.cpp is called below.
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
 

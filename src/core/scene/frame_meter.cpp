@@ -6,7 +6,6 @@
 #include <string>
 
 #include "tissue_trainer/core/mesh/quality.h"
-#include "tissue_trainer/core/model/adamss/cavity.h"
 
 namespace tt {
 namespace {
@@ -76,8 +75,8 @@ FrameStatus FrameMeter::measure(const System& system, int frame, const StepRepor
   const Eigen::Map<const Eigen::Matrix3Xd> m(system.mass.data(), 3, numNodes_);
   log.barycentre = m.cwiseProduct(x).rowwise().sum().cwiseQuotient(massPerAxis_);
   for (const auto& model : system.models)
-    if (const auto* cavity = dynamic_cast<const adamss::CavityModel*>(model.get()))
-      log.cavityVolumes.push_back(cavity->volume(system.state.x));
+    for (int k = 0; k < model->observableCount(); ++k)
+      log.observables.push_back(model->observable(k, system.state.x));
   log.step = step;
   return status;
 }

@@ -17,10 +17,11 @@
 #include "tissue_trainer/core/mesh/node_tags.h"
 #include "tissue_trainer/core/mesh/quality.h"
 #include "tissue_trainer/core/model/gravity.h"
-#include "tissue_trainer/core/scene/registry.h"
-#include "tissue_trainer/core/scene/selection.h"
-#include "tissue_trainer/core/scene/yaml_file.h"
-#include "tissue_trainer/core/scene/yaml_reader.h"
+#include "tissue_trainer/core/registry/model_context.h"
+#include "tissue_trainer/core/registry/registry.h"
+#include "tissue_trainer/core/registry/selection.h"
+#include "tissue_trainer/core/registry/yaml_file.h"
+#include "tissue_trainer/core/registry/yaml_reader.h"
 #include "scene_fibres.h"
 
 namespace tt {

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "tissue_trainer/core/mesh/fibre_field.h"
-#include "tissue_trainer/core/scene/selection.h"
+#include "tissue_trainer/core/registry/selection.h"
 
 namespace tt {
 namespace {

@@ -6,11 +6,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <stdexcept>
 
 #include "tissue_trainer/core/mesh/mesh_io.h"
 #include "tissue_trainer/core/mesh/quality.h"
-#include "tissue_trainer/core/model/adamss/cavity.h"
 
 namespace tt {
 namespace {
@@ -24,11 +24,17 @@ std::string frameFileName(const std::string& name, int frame) {
 }
 
 // The columns after `halvings` came later; readers of the earlier ones are unaffected.
-void writeCsvHeader(std::ofstream& csv, int cavities) {
+// One column per model observable: NAME_K, K counting the models that report NAME.
+void writeCsvHeader(std::ofstream& csv, const System& system) {
   csv << "frame,time,kinetic_energy,elastic_energy,load_energy,volume_ratio,max_displacement,substeps,"
          "rejected,newton_iterations,linear_iterations,error_estimate,step_wall_s,ok,halvings,"
          "barycentre_x,barycentre_y,barycentre_z,volume";
-  for (int c = 0; c < cavities; ++c) csv << ",cavity_volume_" << c;
+  std::map<std::string, int> reported;
+  for (const auto& model : system.models)
+    for (int k = 0; k < model->observableCount(); ++k) {
+      const std::string name = model->observableName(k);
+      csv << "," << name << "_" << reported[name]++;
+    }
   csv << "\n";
 }
 
@@ -41,18 +47,11 @@ void writeCsvLine(std::ofstream& csv, const FrameLog& f) {
                 f.step.linearIterations, f.step.errorEstimate, f.step.wallSeconds, f.step.ok,
                 f.step.halvings, f.barycentre.x(), f.barycentre.y(), f.barycentre.z(), f.volume);
   csv << line;
-  for (double v : f.cavityVolumes) {
+  for (double v : f.observables) {
     std::snprintf(line, sizeof line, ",%.12g", v);
     csv << line;
   }
   csv << "\n";
-}
-
-int countCavities(const System& system) {
-  int n = 0;
-  for (const auto& model : system.models)
-    n += dynamic_cast<const adamss::CavityModel*>(model.get()) != nullptr;
-  return n;
 }
 
 // a = f / m at the state (f the total force: models, damping, external force); zero on the
@@ -107,8 +106,8 @@ FrameLog measureFrame(const System& system, int frame, const StepReport& step) {
   const Eigen::Map<const Eigen::Matrix3Xd> m(system.mass.data(), 3, system.numNodes());
   log.barycentre = m.cwiseProduct(x).rowwise().sum().cwiseQuotient(m.rowwise().sum());
   for (const auto& model : system.models)
-    if (const auto* cavity = dynamic_cast<const adamss::CavityModel*>(model.get()))
-      log.cavityVolumes.push_back(cavity->volume(system.state.x));
+    for (int k = 0; k < model->observableCount(); ++k)
+      log.observables.push_back(model->observable(k, system.state.x));
   log.step = step;
   return log;
 }
@@ -125,7 +124,7 @@ RunSummary runScene(Scene& scene, const RunOptions& options) {
       const std::string path = (fs::path(options.outDir) / (scene.name + ".csv")).string();
       csv.open(path);
       if (!csv) throw InputError(path, 0, "cannot write the CSV log");
-      writeCsvHeader(csv, countCavities(scene.system));
+      writeCsvHeader(csv, scene.system);
       summary.files.push_back(path);
     }
   }

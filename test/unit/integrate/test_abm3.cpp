@@ -15,7 +15,7 @@
 #include "tissue_trainer/core/integrate/abm3.h"
 #include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/mesh/generators.h"
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
 namespace {

@@ -16,7 +16,7 @@
 #include "tissue_trainer/core/integrate/newtonian.h"
 #include "tissue_trainer/core/integrate/rk4_adaptive.h"
 #include "tissue_trainer/core/mesh/generators.h"
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/registry.h"
 #include "oscillators.h"
 
 namespace tt {

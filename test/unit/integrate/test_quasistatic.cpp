@@ -16,7 +16,7 @@
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/model/gravity.h"
 #include "tissue_trainer/core/model/hyperelastic.h"
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/registry.h"
 #include "tissue_trainer/core/scene/scene.h"
 
 namespace tt {

@@ -8,7 +8,7 @@
 
 #include "tissue_trainer/core/integrate/explicit_euler.h"
 #include "tissue_trainer/core/integrate/quasistatic.h"
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/registry.h"
 #include "oscillators.h"
 
 namespace tt {

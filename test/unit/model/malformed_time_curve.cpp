@@ -8,7 +8,7 @@
 
 #include "tissue_trainer/core/error.h"
 #include "tissue_trainer/core/model/time_curve.h"
-#include "tissue_trainer/core/scene/yaml_reader.h"
+#include "tissue_trainer/core/registry/yaml_reader.h"
 
 namespace tt {
 namespace {

@@ -8,7 +8,8 @@
 
 #include "../model_test_util.h"
 #include "tissue_trainer/core/model/edge_length.h"
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/model_context.h"
+#include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
 namespace {

@@ -18,7 +18,7 @@
 #include "tissue_trainer/core/material/volume.h"
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/model/hyperelastic.h"
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
 namespace {

@@ -10,7 +10,7 @@
 #include <utility>
 
 #include "../model_test_util.h"
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
 namespace {

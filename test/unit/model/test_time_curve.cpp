@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "tissue_trainer/core/model/time_curve.h"
-#include "tissue_trainer/core/scene/yaml_reader.h"
+#include "tissue_trainer/core/registry/yaml_reader.h"
 
 namespace tt {
 namespace {

@@ -1,4 +1,4 @@
-// The scene registry (include/tissue_trainer/core/scene/registry.h): nothing registered is
+// The scene registry (include/tissue_trainer/core/registry/registry.h): nothing registered is
 // lost or undocumented, names are unique, and an unknown name is one error listing the
 // known ones, in scenes and outside them.
 #include <gtest/gtest.h>
@@ -20,7 +20,9 @@
 #include "tissue_trainer/core/model/edge_length.h"
 #include "tissue_trainer/core/model/stvk_displacement.h"
 #include "tissue_trainer/core/model/time_curve.h"
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/model/law_model_request.h"
+#include "tissue_trainer/core/registry/model_context.h"
+#include "tissue_trainer/core/registry/registry.h"
 #include "tissue_trainer/core/scene/scene.h"
 
 namespace tt {

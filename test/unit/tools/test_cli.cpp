@@ -18,7 +18,7 @@
 #include "tissue_trainer/core/model/hyperelastic.h"
 #include "tissue_trainer/core/model/edge_length.h"
 #include "tissue_trainer/core/model/stvk_displacement.h"
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/registry.h"
 #include "tissue_trainer/core/scene/scene.h"
 
 namespace tt {

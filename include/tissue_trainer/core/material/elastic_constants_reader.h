@@ -10,7 +10,9 @@
 #include <vector>
 
 #include "tissue_trainer/core/material/elastic_constants.h"
-#include "tissue_trainer/core/scene/yaml_reader.h"
+#include "tissue_trainer/core/model/material.h"
+#include "tissue_trainer/core/registry/model_context.h"
+#include "tissue_trainer/core/registry/yaml_reader.h"
 
 namespace tt {
 
@@ -24,5 +26,14 @@ bool givesElasticConstants(const YamlEntry& material);
 // missing key and what was expected, e.g. "missing poisson_ratio, which stvk reads beside
 // young_modulus: expected a Poisson ratio in (-1, 0.5)".
 ElasticConstants readElasticConstants(const YamlEntry& material, const std::string& reader);
+
+// The Lame constants of material m of a model's context for `reader`: in a scene read once from
+// its entry (an InputError there naming the missing key; context.elasticRead remembers them),
+// else Material::elastic (std::invalid_argument when unset).
+const ElasticConstants& lameConstants(const ModelContext& context, std::size_t m,
+                                      const std::string& reader);
+// The context's materials with their Lame constants set, for models that take
+// std::vector<Material>.
+std::vector<Material> withLameConstants(const ModelContext& context, const std::string& reader);
 
 }  // namespace tt

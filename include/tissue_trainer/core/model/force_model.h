@@ -32,6 +32,12 @@ class ForceModel {
   // elements). False (the default, so a new model is checked until it says otherwise) when
   // they are not: the stability guard then rejects steps that invert or flatten a tet.
   virtual bool toleratesInversion() const { return false; }
+  // Quantities the model reports at every frame beside its energy, e.g. the enclosed volume of
+  // a cavity (m^3): the scene's CSV log gives each a column NAME_K (K counting the models that
+  // report NAME). Most models report none.
+  virtual int observableCount() const { return 0; }
+  virtual const char* observableName(int /*k*/) const { return ""; }
+  virtual double observable(int /*k*/, const Eigen::VectorXd& /*x*/) const { return 0.0; }
 
   // K += scale * df/dx at x, into a matrix with the system's pattern.
   virtual bool hasStiffness() const { return false; }

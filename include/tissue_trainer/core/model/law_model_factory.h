@@ -11,7 +11,9 @@
 
 #include "tissue_trainer/core/model/adamss/virtual_hexahedron.h"
 #include "tissue_trainer/core/model/hyperelastic.h"
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/model/law_model_request.h"
+#include "tissue_trainer/core/registry/model_context.h"
+#include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
 

@@ -23,7 +23,7 @@ struct FrameLog {
   double maxDisplacement = 0.0;  // m
   Eigen::Vector3d barycentre = Eigen::Vector3d::Zero();  // centre of mass (m)
   double volume = 0.0;                // deformed volume of every tet and hex (m^3)
-  std::vector<double> cavityVolumes;  // one per adamss_cavity model, in scene order (m^3)
+  std::vector<double> observables;  // the models' observables in scene order (ForceModel)
   StepReport step;
 };
 

@@ -1,6 +1,7 @@
 // Registers adamss_active_tension (model/adamss/active_tension.h).
 #include "tissue_trainer/core/model/adamss/active_tension.h"
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/model_context.h"
+#include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
 

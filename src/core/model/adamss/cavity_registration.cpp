@@ -3,8 +3,9 @@
 #include <string>
 
 #include "tissue_trainer/core/model/adamss/cavity.h"
-#include "tissue_trainer/core/scene/registry.h"
-#include "tissue_trainer/core/scene/selection.h"
+#include "tissue_trainer/core/registry/model_context.h"
+#include "tissue_trainer/core/registry/registry.h"
+#include "tissue_trainer/core/registry/selection.h"
 
 namespace tt {
 namespace {

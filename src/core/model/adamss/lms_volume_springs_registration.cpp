@@ -1,7 +1,8 @@
 // Registers adamss_lms_volume_springs (model/adamss/lms_volume_springs.h).
 #include "tissue_trainer/core/model/adamss/lms_volume_springs.h"
 #include "tissue_trainer/core/model/adamss/spring_keys.h"
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/model_context.h"
+#include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
 

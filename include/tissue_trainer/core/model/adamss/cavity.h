@@ -65,6 +65,9 @@ class CavityModel final : public ForceModel {
   // With a pressure curve, -p V jumps at every step's start with no work done, so the stability
   // guard counts this model's work as that of a load instead of as stored energy.
   bool hasEnergy() const override { return !parameters_.pressureFollowsCurve; }
+  int observableCount() const override { return 1; }
+  const char* observableName(int) const override { return "cavity_volume"; }
+  double observable(int, const Eigen::VectorXd& x) const override { return volume(x); }
   bool toleratesInversion() const override { return true; }
   bool needsStepUpdates() const override { return parameters_.pressureFollowsCurve; }
   void beginStep(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& v) override;

@@ -4,7 +4,8 @@
 #include <memory>
 #include <stdexcept>
 
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/model_context.h"
+#include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
 namespace adamss {

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "tissue_trainer/core/mesh/mesh.h"
-#include "tissue_trainer/core/scene/yaml_reader.h"
+#include "tissue_trainer/core/registry/yaml_reader.h"
 
 namespace tt {
 

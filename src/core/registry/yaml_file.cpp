@@ -1,4 +1,4 @@
-#include "tissue_trainer/core/scene/yaml_file.h"
+#include "tissue_trainer/core/registry/yaml_file.h"
 
 #include <fstream>
 

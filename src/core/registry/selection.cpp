@@ -1,4 +1,4 @@
-#include "tissue_trainer/core/scene/selection.h"
+#include "tissue_trainer/core/registry/selection.h"
 
 #include <Eigen/Core>
 #include <algorithm>

@@ -1,9 +1,9 @@
-#include "tissue_trainer/core/scene/registry.h"
+#include "tissue_trainer/core/registry/registry.h"
 
 #include <algorithm>
 #include <set>
 
-#include "tissue_trainer/core/material/elastic_constants_reader.h"
+#include "tissue_trainer/core/registry/model_context.h"
 
 namespace tt {
 namespace {
@@ -158,27 +158,6 @@ std::unique_ptr<ForceModel> Registry::makePreset(const std::string& name,
   std::string known;
   for (const std::string& n : presetNames()) known += (known.empty() ? "" : ", ") + n;
   throw UnknownNameError("unknown force model '" + name + "' (expected one of: " + known + ")");
-}
-
-const ElasticConstants& ModelContext::elastic(std::size_t m, const std::string& reader) const {
-  if (elasticRead.size() < materials.size()) elasticRead.resize(materials.size());
-  std::optional<ElasticConstants>& read = elasticRead.at(m);
-  if (!read) {
-    if (const YamlEntry* spec = entry(m))
-      read = readElasticConstants(*spec, reader);
-    else if (materials[m].elastic)
-      read = materials[m].elastic;
-    else
-      throw std::invalid_argument(reader + ": material " + std::to_string(m) +
-                                  " gives no Lame constants");
-  }
-  return *read;
-}
-
-std::vector<Material> ModelContext::withElasticConstants(const std::string& reader) const {
-  std::vector<Material> out = materials;
-  for (std::size_t m = 0; m < out.size(); ++m) out[m].elastic = elastic(m, reader);
-  return out;
 }
 
 std::unique_ptr<ForceModel> makeElasticModel(const std::string& preset, const Mesh& mesh,

@@ -1,4 +1,4 @@
-#include "tissue_trainer/core/scene/yaml_reader.h"
+#include "tissue_trainer/core/registry/yaml_reader.h"
 
 #include <cmath>
 #include <cstdlib>

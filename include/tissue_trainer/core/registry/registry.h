@@ -29,46 +29,20 @@
 #include <vector>
 
 #include "tissue_trainer/core/integrate/integrator.h"
-#include "tissue_trainer/core/material/law.h"
-#include "tissue_trainer/core/mesh/mesh.h"
-#include "tissue_trainer/core/model/adamss/virtual_hexahedron_options.h"
 #include "tissue_trainer/core/model/force_model.h"
-#include "tissue_trainer/core/model/material.h"
-#include "tissue_trainer/core/scene/yaml_reader.h"
+#include "tissue_trainer/core/registry/yaml_reader.h"
 
 namespace tt {
+
+struct Material;
+struct Mesh;
+struct ModelContext;     // registry/model_context.h
+struct LawModelRequest;  // model/law_model_request.h
 
 // One accepted YAML key and what it means (shown by `tissue_cli models`).
 struct KeyDoc {
   std::string key;
   std::string description;
-};
-
-// What a force model is built over. materialEntries are the scene's `materials` entries, one
-// per material id (index = Mesh::material value), from which each law reads its own constants;
-// it is empty when the model is built outside a scene (benchmarks, `tissue_cli forces
-// --model`), where the Lame constants come from Material::elastic.
-struct ModelContext {
-  ModelContext(const Mesh& mesh, const std::vector<Material>& materials,
-               std::vector<YamlEntry> materialEntries = {})
-      : mesh(mesh), materials(materials), materialEntries(std::move(materialEntries)) {}
-
-  const Mesh& mesh;
-  const std::vector<Material>& materials;
-  std::vector<YamlEntry> materialEntries;
-
-  // The `materials` entry of material m, nullptr outside a scene.
-  const YamlEntry* entry(std::size_t m) const {
-    return m < materialEntries.size() ? &materialEntries[m] : nullptr;
-  }
-  // The Lame constants of material m for `reader` (the law or model that reads them): in a
-  // scene read once from its entry (an InputError there naming the missing key), else
-  // Material::elastic (std::invalid_argument when unset). elasticRead remembers what was read.
-  const ElasticConstants& elastic(std::size_t m, const std::string& reader) const;
-  // The materials with their Lame constants set, for models that take std::vector<Material>.
-  std::vector<Material> withElasticConstants(const std::string& reader) const;
-
-  mutable std::vector<std::optional<ElasticConstants>> elasticRead;  // per material id
 };
 
 // A named configuration of a force model: the model with fixed options, e.g.
@@ -93,17 +67,6 @@ struct ForceModelEntry {
   ForceModelFactory make;
 };
 
-// The element models a law's factory builds, `hyperelastic` (model/hyperelastic.h) and
-// `virtual_hexahedron` (model/adamss/virtual_hexahedron.h), with their options.
-enum class LawModelKind { kHyperelastic, kVirtualHexahedron };
-struct LawModelRequest {
-  LawModelKind kind = LawModelKind::kHyperelastic;
-  LawOptions options;
-  adamss::DeformationGradientSource deformationGradient =
-      adamss::DeformationGradientSource::kShapeFunctions;  // virtual_hexahedron only
-  adamss::PointForceDistribution distribution =
-      adamss::PointForceDistribution::kAxes;  // virtual_hexahedron only
-};
 using LawModelFactory =
     std::function<std::unique_ptr<ForceModel>(const ModelContext& context,
                                               const LawModelRequest& request)>;
