@@ -3,10 +3,12 @@
 // System::materials only when a model reads them, and when none does the loader notes them.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
 #include "scene_test_util.h"
 #include "tissue_trainer/core/material/elastic_constants.h"
@@ -115,22 +117,58 @@ TEST(MaterialOwnConstants, ShippedScenesStateOnlyWhatTheirLawsRead) {
   EXPECT_FALSE(heart.system.materials[0].elastic.has_value());
 }
 
-// The models, contact, material and mesh code need no scene loader: selections come from
-// scene/selection.h, contact settings from contact/contact_settings.h.
-TEST(MaterialOwnConstants, LowerLayersDoNotIncludeTheSceneLoader) {
+// The project's own headers a file includes ("tissue_trainer/core/ROOM/FILE.h" -> ROOM/FILE.h).
+std::vector<std::string> coreIncludes(const fs::path& file) {
+  std::ifstream in(file);
+  std::vector<std::string> out;
+  const std::string prefix = "#include \"tissue_trainer/core/";
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind(prefix, 0) == 0)
+      out.push_back(line.substr(prefix.size(), line.find('"', prefix.size()) - prefix.size()));
+  return out;
+}
+
+// Every file of a room of the core, sources and headers.
+std::vector<fs::path> roomFiles(const std::string& room) {
+  std::vector<fs::path> files;
+  for (const fs::path root :
+       {kRoot / "src/core" / room, kRoot / "include/tissue_trainer/core" / room})
+    for (const auto& file : fs::recursive_directory_iterator(root))
+      if (file.is_regular_file()) files.push_back(file.path());
+  return files;
+}
+
+// scene/ (the loader and the runner) is the core's top: no other room includes it.
+TEST(CoreLayers, NoRoomBelowTheSceneIncludesIt) {
   int checked = 0;
-  for (const char* folder : {"model", "contact", "material", "mesh"})
-    for (const fs::path root : {kRoot / "src/core" / folder,
-                                kRoot / "include/tissue_trainer/core" / folder})
-      for (const auto& file : fs::recursive_directory_iterator(root)) {
-        if (!file.is_regular_file()) continue;
-        std::ifstream in(file.path());
-        const std::string text((std::istreambuf_iterator<char>(in)),
-                               std::istreambuf_iterator<char>());
-        EXPECT_EQ(text.find("scene/scene.h\""), std::string::npos) << file.path();
-        ++checked;
-      }
-  EXPECT_GT(checked, 50);
+  for (const auto& entry : fs::directory_iterator(kRoot / "src/core")) {
+    const std::string room = entry.path().filename().string();
+    if (!entry.is_directory() || room == "scene") continue;
+    for (const fs::path& file : roomFiles(room)) {
+      for (const std::string& header : coreIncludes(file))
+        EXPECT_NE(header.rfind("scene/", 0), 0u) << file << " includes " << header;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 200);  // 222 files in 16 rooms when written
+}
+
+// registry/ sits below the models, laws and integrators that register in it: it knows their
+// interfaces and the data they are built over, nothing of any model, law or integrator.
+TEST(CoreLayers, TheRegistryKnowsOnlyTheInterfaces) {
+  const std::vector<std::string> allowed{
+      "error.h", "integrate/integrator.h", "material/elastic_constants.h", "mesh/mesh.h",
+      "model/force_model.h", "model/material.h"};
+  int checked = 0;
+  for (const fs::path& file : roomFiles("registry"))
+    for (const std::string& header : coreIncludes(file)) {
+      const bool inRoom = header.rfind("registry/", 0) == 0;
+      const bool interface =
+          std::find(allowed.begin(), allowed.end(), header) != allowed.end();
+      EXPECT_TRUE(inRoom || interface) << file << " includes " << header;
+      ++checked;
+    }
+  EXPECT_GT(checked, 10);
 }
 
 }  // namespace
