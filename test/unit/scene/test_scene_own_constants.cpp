@@ -150,7 +150,7 @@ TEST(CoreLayers, NoRoomBelowTheSceneIncludesIt) {
       ++checked;
     }
   }
-  EXPECT_GT(checked, 200);  // 222 files in 16 rooms when written
+  EXPECT_GT(checked, 200);  // 222 files when written
 }
 
 // registry/ sits below the models, laws and integrators that register in it: it knows their
