@@ -1,13 +1,18 @@
-# The command-line tools and benchmarks: one executable per src/tools/*.cpp with a main(),
-# linked with the core; TT_TOOLS lists them. Included by the catkin build (CMakeLists.txt) and
-# by the standalone build (test/standalone, TT_BUILD_TOOLS=ON), after cmake/core.cmake.
+# The command-line tools and benchmarks, one executable per .cpp with a main():
+#   src/tools/cli/    tissue_cli, the command-line face of the core
+#   src/tools/bench/  speed, error against run time and stability (scripts/bench)
+#   src/tools/repro/  the papers' figures, tables and experiments
+# each linked with the core; TT_TOOLS lists them. Included by the catkin build (CMakeLists.txt)
+# and by the standalone build (test/standalone, TT_BUILD_TOOLS=ON), after cmake/core.cmake.
 set(TT_TOOLS "")
-# What the programs share: the command line (src/tools/common).
+# What the programs share (src/tools/common): the command line, and headers included as
+# "common/NAME.h".
 file(GLOB TT_TOOLS_COMMON_SOURCES CONFIGURE_DEPENDS "${TT_ROOT}/src/tools/common/*.cpp")
 add_library(tt_tools_common STATIC ${TT_TOOLS_COMMON_SOURCES})
 target_include_directories(tt_tools_common PUBLIC "${TT_ROOT}/src/tools")
 target_compile_options(tt_tools_common PRIVATE -Wall -Wextra)
-file(GLOB TT_TOOL_SOURCES CONFIGURE_DEPENDS "${TT_ROOT}/src/tools/*.cpp")
+file(GLOB TT_TOOL_SOURCES CONFIGURE_DEPENDS "${TT_ROOT}/src/tools/cli/*.cpp"
+     "${TT_ROOT}/src/tools/bench/*.cpp" "${TT_ROOT}/src/tools/repro/*.cpp")
 foreach(src ${TT_TOOL_SOURCES})
   get_filename_component(tool ${src} NAME_WE)
   add_executable(${tool} ${src})
@@ -18,8 +23,8 @@ foreach(src ${TT_TOOL_SOURCES})
   list(APPEND TT_TOOLS ${tool})
 endforeach()
 
-# bench_adamss has one source file per experiment, in src/tools/bench_adamss/.
-file(GLOB TT_BENCH_ADAMSS_SOURCES CONFIGURE_DEPENDS "${TT_ROOT}/src/tools/bench_adamss/*.cpp")
+# bench_adamss has one source file per experiment, in src/tools/repro/bench_adamss/.
+file(GLOB TT_BENCH_ADAMSS_SOURCES CONFIGURE_DEPENDS "${TT_ROOT}/src/tools/repro/bench_adamss/*.cpp")
 add_executable(bench_adamss ${TT_BENCH_ADAMSS_SOURCES})
 if(TT_CORE_UNITY)  # unity batches, as for the core
   set_target_properties(bench_adamss PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)

@@ -63,7 +63,7 @@
 #include <string>
 #include <vector>
 
-#include "bench_support.h"
+#include "common/bench_support.h"
 #include "bullet_deformable.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/parallel.h"

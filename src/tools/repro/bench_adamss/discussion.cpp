@@ -40,7 +40,7 @@
 #include <string>
 #include <vector>
 
-#include "../adamss_bench_models.h"
+#include "common/adamss_bench_models.h"
 #include "experiment_support.h"
 #include "tissue_trainer/core/integrate/abm3.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"

@@ -53,8 +53,8 @@
 #include <string>
 #include <vector>
 
-#include "adamss_bench_models.h"
-#include "bench_support.h"
+#include "common/adamss_bench_models.h"
+#include "common/bench_support.h"
 #include "muscle_bench_models.h"
 #include "tissue_trainer/core/integrate/abm3.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"

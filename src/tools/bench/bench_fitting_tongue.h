@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "bench_support.h"
+#include "common/bench_support.h"
 #include "tissue_trainer/core/fit/landmark_fit.h"
 #include "tissue_trainer/core/model/activated_force_model.h"
 #include "tissue_trainer/core/scene/scene.h"

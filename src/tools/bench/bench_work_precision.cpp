@@ -41,7 +41,7 @@
 #include <string>
 #include <vector>
 
-#include "bench_support.h"
+#include "common/bench_support.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/integrate/abm3.h"
 #include "tissue_trainer/core/integrate/explicit_euler.h"

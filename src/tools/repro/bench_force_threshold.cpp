@@ -12,9 +12,9 @@
 #include <cstdlib>
 #include <vector>
 
-#include "bench_support.h"
+#include "common/bench_support.h"
 #include "common/command_line.h"
-#include "muscle_scene.h"
+#include "common/muscle_scene.h"
 #include "tissue_trainer/core/integrate/newtonian.h"
 #include "tissue_trainer/core/model/edge_length.h"
 

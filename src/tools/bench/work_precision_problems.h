@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "bench_support.h"
-#include "muscle_scene.h"
+#include "common/bench_support.h"
+#include "common/muscle_scene.h"
 #include "tissue_trainer/core/integrate/radau_iia.h"
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/model/gravity.h"

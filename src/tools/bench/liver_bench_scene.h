@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "bench_support.h"
+#include "common/bench_support.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/mesh/mesh_io.h"
 #include "tissue_trainer/core/system.h"

@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-#include "bench_support.h"
+#include "common/bench_support.h"
 #include "common/command_line.h"
 #include "tissue_trainer/core/contact/tissue_contact.h"
 #include "tissue_trainer/core/error.h"

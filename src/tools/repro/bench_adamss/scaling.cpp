@@ -27,7 +27,7 @@
 #include <utility>
 #include <vector>
 
-#include "../bench_support.h"
+#include "common/bench_support.h"
 #include "experiment_support.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/model/gravity.h"

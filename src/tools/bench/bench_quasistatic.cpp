@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "bench_support.h"
+#include "common/bench_support.h"
 #include "tissue_trainer/core/fit/landmark_fit.h"
 #include "tissue_trainer/core/integrate/equilibrium.h"
 #include "tissue_trainer/core/integrate/quasistatic.h"

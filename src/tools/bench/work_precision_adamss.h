@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "adamss_bench_models.h"
+#include "common/adamss_bench_models.h"
 #include "work_precision_problems.h"
 
 namespace tt {

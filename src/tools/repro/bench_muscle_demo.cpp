@@ -29,9 +29,9 @@
 #include "tissue_trainer/core/model/edge_length.h"
 #include "tissue_trainer/core/model/stvk_displacement.h"
 #include "tissue_trainer/core/model/tensor_mass.h"
-#include "bench_support.h"
+#include "common/bench_support.h"
 #include "common/command_line.h"
-#include "muscle_scene.h"
+#include "common/muscle_scene.h"
 
 namespace {
 

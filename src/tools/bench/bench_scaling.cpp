@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "bench_support.h"
+#include "common/bench_support.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/integrate/newtonian.h"
 #include "tissue_trainer/core/mesh/generators.h"
