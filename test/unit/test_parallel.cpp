@@ -1,5 +1,6 @@
-// The threaded tet loops (parallel.h, tet_loops.h): the row bands of the stiffness assembly
-// cover every row once, the forces and energies of every tet model on 2 and 3 threads agree
+// The threaded element loops (parallel.h, tet_loops.h): the row bands of the stiffness assembly
+// cover every tet and hex row once, the hex blocks go in through offsets as they did through a
+// search, the forces and energies of every tet model on 2 and 3 threads agree
 // with 1 thread to round-off and repeat bitwise, and the stiffness is bitwise that of 1 thread.
 #include <gtest/gtest.h>
 
@@ -10,10 +11,12 @@
 
 #include "model_test_util.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
+#include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/model/edge_length.h"
 #include "tissue_trainer/core/model/stvk_displacement.h"
 #include "tissue_trainer/core/model/tensor_mass.h"
 #include "tissue_trainer/core/parallel.h"
+#include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
 namespace {
@@ -139,6 +142,61 @@ TEST(Parallel, ModelsAgreeAcrossThreadCountsAndRepeatBitwise) {
       EXPECT_EQ(a.energy, b.energy) << what;
     }
   }
+}
+
+// A box of hexes (no tet split), its nodes jittered so that no two element blocks are equal.
+Mesh hexBoxForThreads(int cells, std::mt19937& rng) {
+  Mesh m = boxGrid(cells + 2, cells + 1, cells + 1, Eigen::Vector3d(0.03, 0.02, 0.02),
+                   TetSplit::kNone);
+  std::uniform_real_distribution<double> jitter(-1e-3, 1e-3);
+  for (int a = 0; a < m.numNodes(); ++a)
+    for (int i = 0; i < 3; ++i) m.rest(i, a) += jitter(rng);
+  m.fillDefaults();
+  return m;
+}
+
+// Every row of K is written by exactly one part from every hex at its node, as for the tets.
+TEST(Parallel, RowOwnershipWritesEveryHexRowOnce) {
+  std::mt19937 rng(5);
+  const Mesh m = hexBoxForThreads(5, rng);
+  const SparsePattern pattern = meshPattern(m);
+  ASSERT_EQ(pattern.numHexes(), m.numHexes());
+  for (int parts : {2, 3}) {
+    const RowOwnership& own = pattern.rowOwnership(parts);
+    std::vector<int> writes(8 * m.hexes.size(), 0);  // per hex, per local node
+    for (int part = 0; part < parts; ++part) {
+      ASSERT_EQ(own.hexes[part].size(), own.hexRows[part].size());
+      EXPECT_TRUE(std::is_sorted(own.hexes[part].begin(), own.hexes[part].end())) << part;
+      EXPECT_FALSE(own.hexes[part].empty()) << part;
+      for (size_t i = 0; i < own.hexes[part].size(); ++i)
+        for (int la = 0; la < 8; ++la)
+          if (own.hexRows[part][i] & (1u << la)) ++writes[8 * own.hexes[part][i] + la];
+    }
+    for (int w : writes) EXPECT_EQ(w, 1) << parts << " parts";
+  }
+}
+
+// The hex stiffness through the pattern's offsets, on 1, 2 and 3 threads, is bitwise the one
+// added block by block with a search per row (a pattern that knows the hex node pairs only).
+TEST(Parallel, HexStiffnessThroughOffsetsIsBitwiseTheSearchedOne) {
+  std::mt19937 rng(23);
+  const Mesh m = hexBoxForThreads(4, rng);
+  const auto model = makeElasticModel("hyperelastic_neo_hookean", m, testMaterials());
+  std::vector<std::array<int, 2>> hexPairs;
+  for (const Hex& h : m.hexes)
+    for (int a = 0; a < 8; ++a)
+      for (int b = a + 1; b < 8; ++b) hexPairs.push_back({h[a], h[b]});
+  const SparsePattern searched(m.numNodes(), m.tets, hexPairs);
+  const SparsePattern withOffsets = meshPattern(m);
+  ASSERT_EQ(searched.numHexes(), 0);
+  ASSERT_EQ(searched.nonZeros(), withOffsets.nonZeros());
+  const Eigen::VectorXd x = perturbed(m, 0.001, rng);
+  const Evaluation reference = evaluate(*model, searched, x, 1);
+  ASSERT_GT(reference.stiffness.lpNorm<Eigen::Infinity>(), 0.0);
+  for (int threads : {1, 2, 3})
+    EXPECT_TRUE(bitwiseEqual(evaluate(*model, withOffsets, x, threads).stiffness,
+                             reference.stiffness))
+        << threads << " threads";
 }
 
 TEST(Parallel, BackwardEulerStepsAgreeOnOneAndTwoThreads) {

@@ -34,6 +34,43 @@ std::vector<int> breadthFirstOrder(const std::vector<std::vector<int>>& neighbou
   return order;
 }
 
+// Per element, per (la, lb) pair of its N local nodes, per row i: the offset of entry
+// (3a+i, 3b) in the value array of `pattern`.
+template <int N>
+std::vector<std::array<int, N * N * 3>> blockOffsets(const SparseMatrix& pattern,
+                                                     const std::vector<std::array<int, N>>& elements) {
+  std::vector<std::array<int, N * N * 3>> offsets(elements.size());
+  const int* outer = pattern.outerIndexPtr();
+  const int* inner = pattern.innerIndexPtr();
+  for (size_t e = 0; e < elements.size(); ++e)
+    for (int la = 0; la < N; ++la)
+      for (int lb = 0; lb < N; ++lb)
+        for (int i = 0; i < 3; ++i) {
+          const int row = 3 * elements[e][la] + i;
+          const int* pos = std::lower_bound(inner + outer[row], inner + outer[row + 1],
+                                            3 * elements[e][lb]);
+          offsets[e][(la * N + lb) * 3 + i] = static_cast<int>(pos - inner);
+        }
+  return offsets;
+}
+
+// The owner-computes split of a list of elements with N nodes (RowOwnership): per part, the
+// elements with a node of the part, in increasing order, and the rows of the part in each.
+template <int N, class Rows>
+void splitByOwner(const std::vector<std::array<int, N>>& elements, const std::vector<int>& owner,
+                  std::vector<std::vector<int>>& visits, std::vector<std::vector<Rows>>& rows) {
+  for (int e = 0; e < static_cast<int>(elements.size()); ++e)
+    for (int la = 0; la < N; ++la) {
+      const int part = owner[elements[e][la]];
+      Rows own = 0;
+      for (int lb = 0; lb < N; ++lb)
+        if (owner[elements[e][lb]] == part) own |= static_cast<Rows>(1u << lb);
+      if (own & ((1u << la) - 1)) continue;  // an earlier local node listed this part already
+      visits[part].push_back(e);
+      rows[part].push_back(own);
+    }
+}
+
 }  // namespace
 
 struct SparsePattern::OwnershipCache {
@@ -44,8 +81,10 @@ struct SparsePattern::OwnershipCache {
 SparsePattern::SparsePattern() : ownership_(std::make_shared<OwnershipCache>()) {}
 
 SparsePattern::SparsePattern(int numNodes, const std::vector<Tet>& tets,
-                             const std::vector<std::array<int, 2>>& extraPairs)
-    : numNodes_(numNodes), tets_(tets), ownership_(std::make_shared<OwnershipCache>()) {
+                             const std::vector<std::array<int, 2>>& extraPairs,
+                             const std::vector<Hex>& hexes)
+    : numNodes_(numNodes), tets_(tets), hexes_(hexes),
+      ownership_(std::make_shared<OwnershipCache>()) {
   std::vector<std::vector<int>> neighbours(numNodes);
   auto link = [&](int a, int b) {
     neighbours[a].push_back(b);
@@ -55,6 +94,9 @@ SparsePattern::SparsePattern(int numNodes, const std::vector<Tet>& tets,
   for (const Tet& t : tets)
     for (int i = 0; i < 4; ++i)
       for (int j = i + 1; j < 4; ++j) link(t[i], t[j]);
+  for (const Hex& h : hexes)
+    for (int i = 0; i < 8; ++i)
+      for (int j = i + 1; j < 8; ++j) link(h[i], h[j]);
   for (const auto& p : extraPairs) link(p[0], p[1]);
 
   std::vector<Eigen::Triplet<double>> entries;
@@ -73,18 +115,8 @@ SparsePattern::SparsePattern(int numNodes, const std::vector<Tet>& tets,
   pattern_.setFromTriplets(entries.begin(), entries.end());
   pattern_.makeCompressed();
 
-  tetOffsets_.resize(tets.size());
-  const int* outer = pattern_.outerIndexPtr();
-  const int* inner = pattern_.innerIndexPtr();
-  for (size_t e = 0; e < tets.size(); ++e)
-    for (int la = 0; la < 4; ++la)
-      for (int lb = 0; lb < 4; ++lb)
-        for (int i = 0; i < 3; ++i) {
-          const int row = 3 * tets[e][la] + i;
-          const int* pos = std::lower_bound(inner + outer[row], inner + outer[row + 1],
-                                            3 * tets[e][lb]);
-          tetOffsets_[e][(la * 4 + lb) * 3 + i] = static_cast<int>(pos - inner);
-        }
+  tetOffsets_ = blockOffsets<4>(pattern_, tets);
+  hexOffsets_ = blockOffsets<8>(pattern_, hexes);
 
   breadthFirstOrder_ = breadthFirstOrder(neighbours);
 }
@@ -109,6 +141,20 @@ void SparsePattern::addTetBlock(SparseMatrix& K, int tet, const Matrix12d& Ke,
   }
 }
 
+void SparsePattern::addHexBlock(SparseMatrix& K, int hex, const Matrix24d& Ke, double scale,
+                                HexRows rows) const {
+  double* values = K.valuePtr();
+  const std::array<int, 192>& offsets = hexOffsets_[hex];
+  for (int la = 0; la < 8; ++la) {
+    if (!(rows & (1u << la))) continue;
+    for (int lb = 0; lb < 8; ++lb)
+      for (int i = 0; i < 3; ++i) {
+        double* row = values + offsets[(la * 8 + lb) * 3 + i];
+        for (int j = 0; j < 3; ++j) row[j] += scale * Ke(3 * la + i, 3 * lb + j);
+      }
+  }
+}
+
 const RowOwnership& SparsePattern::rowOwnership(int parts) const {
   parts = std::max(parts, 1);
   std::lock_guard<std::mutex> lock(ownership_->mutex);
@@ -116,10 +162,13 @@ const RowOwnership& SparsePattern::rowOwnership(int parts) const {
   if (static_cast<int>(byParts.size()) <= parts) byParts.resize(parts + 1);
   if (byParts[parts]) return *byParts[parts];
 
-  // Bands of the breadth-first order holding equal shares of the tets (counted at each node).
+  // Bands of the breadth-first order holding equal shares of the elements (counted at each
+  // node; a hex as much work as about six tets).
   std::vector<long long> weight(numNodes_, 1);
   for (const Tet& t : tets_)
     for (int a : t) ++weight[a];
+  for (const Hex& h : hexes_)
+    for (int a : h) weight[a] += 6;
   long long total = 0;
   for (long long w : weight) total += w;
   std::vector<int> owner(numNodes_, 0);
@@ -132,17 +181,10 @@ const RowOwnership& SparsePattern::rowOwnership(int parts) const {
   auto ownership = std::make_unique<RowOwnership>();
   ownership->tets.resize(parts);
   ownership->rows.resize(parts);
-  for (int e = 0; e < numTets(); ++e) {
-    for (int la = 0; la < 4; ++la) {
-      const int part = owner[tets_[e][la]];
-      TetRows rows = 0;
-      for (int lb = 0; lb < 4; ++lb)
-        if (owner[tets_[e][lb]] == part) rows |= static_cast<TetRows>(1u << lb);
-      if (rows & ((1u << la) - 1)) continue;  // an earlier local node listed this part already
-      ownership->tets[part].push_back(e);
-      ownership->rows[part].push_back(rows);
-    }
-  }
+  ownership->hexes.resize(parts);
+  ownership->hexRows.resize(parts);
+  splitByOwner<4>(tets_, owner, ownership->tets, ownership->rows);
+  splitByOwner<8>(hexes_, owner, ownership->hexes, ownership->hexRows);
   byParts[parts] = std::move(ownership);
   return *byParts[parts];
 }
@@ -160,19 +202,8 @@ void SparsePattern::addNodeBlock(SparseMatrix& K, int a, int b,
   }
 }
 
-std::vector<std::array<int, 2>> hexNodePairs(const std::vector<Hex>& hexes) {
-  std::vector<std::array<int, 2>> pairs;
-  pairs.reserve(hexes.size() * 28);
-  for (const Hex& h : hexes)
-    for (int a = 0; a < 8; ++a)
-      for (int b = a + 1; b < 8; ++b) pairs.push_back({std::min(h[a], h[b]), std::max(h[a], h[b])});
-  return pairs;
-}
-
 SparsePattern meshPattern(const Mesh& mesh, std::vector<std::array<int, 2>> extraPairs) {
-  const std::vector<std::array<int, 2>> hexPairs = hexNodePairs(mesh.hexes);
-  extraPairs.insert(extraPairs.end(), hexPairs.begin(), hexPairs.end());
-  return SparsePattern(mesh.numNodes(), mesh.tets, extraPairs);
+  return SparsePattern(mesh.numNodes(), mesh.tets, extraPairs, mesh.hexes);
 }
 
 }  // namespace tt

@@ -6,7 +6,10 @@
 // forces are compared too); the force expressions of Eq 30 and Eq 31 alone, one against the
 // other; plus the stiffness assembly of the fast path. Then the muscle law's
 // two PSD projections (psd_method eigen and diagonal_blocks) per tet tangent on random
-// gradients, half of them inverted, and in the stiffness assembly of a compressed grid.
+// gradients, half of them inverted, and in the stiffness assembly of a compressed grid. Last,
+// the stiffness assembly of a hex mesh (hyperelastic neo_hookean, no tet split): the blocks
+// added with a search per row on one thread against through the pattern's precomputed offsets
+// on one and two threads, with the largest relative difference of K beside each.
 //   bench_forces [--quick] [--repeats N=7] [--psd-only]
 // (--quick: the smaller grid and one repeat; --psd-only: only the PSD projections)
 #include <algorithm>
@@ -25,6 +28,7 @@
 #include "common/command_line.h"
 #include "tissue_trainer/core/material/law_point.h"
 #include "tissue_trainer/core/material/teran_muscle.h"
+#include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/model/edge_length.h"
 #include "tissue_trainer/core/model/hyperelastic.h"
 #include "tissue_trainer/core/model/stvk_displacement.h"
@@ -329,6 +333,50 @@ void benchMusclePsdAssembly(int repeats) {
   }
 }
 
+// The hex stiffness assembly, searched (a pattern that knows the hexes' node pairs only) and
+// through offsets (meshPattern).
+void benchHexAssembly(int cells, int repeats) {
+  Mesh mesh = boxGrid(cells + 1, cells + 1, cells + 1, Eigen::Vector3d::Constant(0.01 * cells),
+                      TetSplit::kNone);
+  mesh.fillDefaults();
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0.0, 1e-4);
+  Eigen::VectorXd x(3 * mesh.numNodes());
+  for (int i = 0; i < mesh.numNodes(); ++i)
+    x.segment<3>(3 * i) = mesh.rest.col(i) + Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+  const auto model = makeElasticModel("hyperelastic_neo_hookean", mesh,
+                                      {Material::isotropic(3e3, 0.45, 1000.0)});
+  std::vector<std::array<int, 2>> pairs;
+  for (const Hex& hex : mesh.hexes)
+    for (int a = 0; a < 8; ++a)
+      for (int b = a + 1; b < 8; ++b) pairs.push_back({hex[a], hex[b]});
+  const SparsePattern searched(mesh.numNodes(), mesh.tets, pairs);
+  const SparsePattern offsets = meshPattern(mesh);
+  std::printf("\nhex stiffness assembly, hyperelastic neo_hookean, %d hexes (median of %d)\n",
+              mesh.numHexes(), repeats);
+  Eigen::VectorXd reference;
+  double searchedSeconds = 0.0;
+  auto row = [&](const char* label, const SparsePattern& pattern, int threads) {
+    setThreadCount(threads);
+    SparseMatrix K = pattern.zeroMatrix();
+    const double t = medianSeconds([&] {
+      K.coeffs().setZero();
+      model->addStiffness(x, 1.0, pattern, K);
+    }, repeats);
+    setThreadCount(1);
+    if (reference.size() == 0) {
+      reference = K.coeffs();
+      searchedSeconds = t;
+    }
+    std::printf("  %-34s %9.3f ms %8.2f us/hex  speed-up %5.2f  max rel diff of K %9.2e\n",
+                label, 1e3 * t, 1e6 * t / mesh.numHexes(), searchedSeconds / t,
+                maxRelDiff(K.coeffs(), reference));
+  };
+  row("searched per row, 1 thread", searched, 1);
+  row("offsets, 1 thread", offsets, 1);
+  row("offsets, 2 threads (row bands)", offsets, 2);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -346,5 +394,6 @@ int main(int argc, char** argv) {
   benchMusclePsdPoints(false, repeats);
   benchMusclePsdPoints(true, repeats);
   benchMusclePsdAssembly(repeats);
+  if (!psdOnly) benchHexAssembly(quick ? 6 : 16, repeats);
   return 0;
 }

@@ -8,8 +8,8 @@
 //               thread) is small beside the tets.
 //   stiffness : a per-thread copy of K would cost more than the assembly itself, so each
 //               thread owns a band of rows (SparsePattern::rowOwnership) and writes only
-//               those, visiting the tets at its nodes in mesh order; the tets across a band
-//               border are evaluated twice. Every entry of K receives its terms in the same
+//               those, visiting the tets (then the hexes) at its nodes in mesh order; the
+//               elements across a band border are evaluated twice. Every entry of K receives its terms in the same
 //               order for any thread count, so K is bitwise that of one thread. (A colouring of
 //               the tets, with a barrier per colour, was slower on two threads than one
 //               thread on TetGen livers: the tets of a colour lie all over the mesh.)
@@ -115,9 +115,27 @@ void forEachTetByRows(const SparsePattern& pattern, int count, const AddTet& add
   });
 }
 
+// The same for the hexes (addHex(e, rows), HexRows); called after the tets, every entry of K
+// still receives its terms in the same order as on one thread.
+template <class AddHex>
+void forEachHexByRows(const SparsePattern& pattern, int count, const AddHex& addHex) {
+  const int parts = threadCount();
+  if (parts == 1 || pattern.numHexes() != count) {
+    for (int e = 0; e < count; ++e) addHex(e, kAllHexRows);
+    return;
+  }
+  const RowOwnership& ownership = pattern.rowOwnership(parts);
+  parallelRanges(parts, parts, [&](int part, int, int) {
+    const std::vector<int>& hexes = ownership.hexes[part];
+    const std::vector<HexRows>& rows = ownership.hexRows[part];
+    for (size_t i = 0; i < hexes.size(); ++i) addHex(hexes[i], rows[i]);
+  });
+}
+
 // K += scale * the element stiffness blocks of a model's tets and hexes: tetBlock(e) is the
-// 12 x 12 and hexBlock(e) the 24 x 24 block (node-major: row 3 p + i) of element e. Tets run
-// as forEachTetByRows does, hexes on one thread.
+// 12 x 12 and hexBlock(e) the 24 x 24 block (node-major: row 3 p + i) of element e, each run
+// as forEachTetByRows and forEachHexByRows do. Through the pattern's precomputed offsets when
+// it was built with these hexes (meshPattern), else a search per row.
 template <class TetBlock, class HexBlock>
 void addElementStiffness(const SparsePattern& pattern, SparseMatrix& K, double scale,
                          int tetCount, const TetBlock& tetBlock, const std::vector<Hex>& hexes,
@@ -125,7 +143,14 @@ void addElementStiffness(const SparsePattern& pattern, SparseMatrix& K, double s
   forEachTetByRows(pattern, tetCount, [&](int e, TetRows rows) {
     pattern.addTetBlock(K, e, scale * tetBlock(e), rows);
   });
-  for (int e = 0; e < static_cast<int>(hexes.size()); ++e) {
+  const int hexCount = static_cast<int>(hexes.size());
+  if (pattern.numHexes() == hexCount) {
+    forEachHexByRows(pattern, hexCount, [&](int e, HexRows rows) {
+      pattern.addHexBlock(K, e, hexBlock(e), scale, rows);
+    });
+    return;
+  }
+  for (int e = 0; e < hexCount; ++e) {
     const auto Ke = hexBlock(e);
     for (int a = 0; a < 8; ++a)
       for (int b = 0; b < 8; ++b)
