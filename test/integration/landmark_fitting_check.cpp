@@ -14,9 +14,9 @@
 #include "tissue_trainer/FitStatus.h"
 #include "tissue_trainer/TrackedLandmarks.h"
 #include "tissue_trainer/core/fit/landmark_fit.h"
-#include "tissue_trainer/core/integrate/equilibrium.h"
 #include "tissue_trainer/core/model/activated_force_model.h"
 #include "tissue_trainer/core/scene/scene.h"
+#include "tissue_trainer/core/solve/equilibrium.h"
 
 namespace {
 

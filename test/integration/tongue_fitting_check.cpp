@@ -22,12 +22,12 @@
 #include "tissue_trainer/TissueSurface.h"
 #include "tissue_trainer/TrackedLandmarks.h"
 #include "tissue_trainer/core/fit/landmark_fit.h"
-#include "tissue_trainer/core/integrate/equilibrium.h"
 #include "tissue_trainer/core/integrate/quasistatic.h"
 #include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/model/activated_force_model.h"
 #include "tissue_trainer/core/scene/display_surface.h"
 #include "tissue_trainer/core/scene/scene.h"
+#include "tissue_trainer/core/solve/equilibrium.h"
 
 namespace {
 

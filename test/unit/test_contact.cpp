@@ -13,9 +13,9 @@
 
 #include "tissue_trainer/core/contact/tissue_contact.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
-#include "tissue_trainer/core/integrate/equilibrium.h"
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/model/edge_length.h"
+#include "tissue_trainer/core/solve/equilibrium.h"
 
 namespace tt {
 namespace {

@@ -58,7 +58,7 @@ void registerAbm3(Registry& registry) {
                             "step (0 < r < 1, default 0.03)"},
             {"min_step", "shortest step; shorter fails the frame (s, default 1e-12)"},
             {"max_step", "longest step (s, default unlimited)"}};
-  e.make = [](const YamlEntry& spec) -> std::unique_ptr<Integrator> {
+  e.make = [](const YamlEntry& spec, Notes&) -> std::unique_ptr<Integrator> {
     return std::make_unique<Abm3Integrator>(readParams(spec));
   };
   registry.add(std::move(e));

@@ -71,137 +71,66 @@ int BackwardEulerIntegrator::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x)
   // (to 0 / 0, or to a zero step that stops the damping).
   const double scale = b.lpNorm<Eigen::Infinity>();
   if (scale == 0.0) {
-    diagnostics_.lastRelativeResidual = 0.0;
-    x.setZero();
+    linear_.solve(A_, b, x);  // x = 0
+    copyLinearDiagnostics();
     return 0;
   }
   unitB_ = b / scale;
   x /= scale;
   if (!x.allFinite()) x.setZero();
-  const int iterations = solveUnit(unitB_, x);
+  const int iterations = linear_.solve(A_, unitB_, x, this).iterations;
+  copyLinearDiagnostics();
   x *= scale;
   return iterations;
 }
 
-namespace {
-
-// A refused factorisation is not retried for this many solves (a matrix that was not positive
-// definite rarely is so at the next step).
-constexpr int kRefactorRetrySolves = 10;
-
-}  // namespace
-
-const Preconditioner& BackwardEulerIntegrator::choosePreconditioner() {
-  diagonalValues_.resize(A_.rows());
-  for (int row = 0; row < A_.rows(); ++row) diagonalValues_[row] = A_.valuePtr()[diagonal_[row]];
-  jacobi_.setDiagonal(diagonalValues_);
-  if (!rebuilt_) return jacobi_;
-  if (rebuilt_->ready()) return *rebuilt_;
-  ++diagnostics_.jacobiFallbacks;
-  return jacobi_;
+void BackwardEulerIntegrator::copyLinearDiagnostics() {
+  static_cast<LinearSolveDiagnostics&>(diagnostics_) = linear_.diagnostics();
 }
 
-void BackwardEulerIntegrator::ensureFactor(const System& system, double h) {
-  using Preconditioning = BackwardEulerParams::Preconditioning;
-  if (params.preconditioner == Preconditioning::kJacobi) return;
-  if (!rebuilt_) {
-    if (params.preconditioner == Preconditioning::kAmg)
-      rebuilt_ = std::make_unique<AmgPreconditioner>(params.amg);
-    else
-      rebuilt_ = std::make_unique<CholeskyPreconditioner>(params.backgroundRefactor,
-                                                          params.choleskyBackend);
-    solvesSinceRefusal_ = kRefactorRetrySolves;
-  }
-  if (rebuilt_->ready() || rebuilt_->busy() || solvesSinceRefusal_ < kRefactorRetrySolves)
-    return;
-  if (!rebuilt_->rebuildNow(factorMatrix())) {
-    // Refused here (Cholesky: not positive definite, a stiffness softened by compression; AMG:
-    // a hypre error). The projected matrix of this state is positive definite and closest to
-    // A_; without a projection, the matrix of the rest shape is, and stays close enough to
-    // precondition the steps near it.
-    const bool projectable = !projectFactors_ && !finiteDifferences() && system.hasProjectedStiffness();
-    if (projectable) projectFactors_ = true;
-    if (!projectable || !rebuilt_->rebuildNow(factorMatrix())) {
-      const Eigen::Map<const Eigen::VectorXd> rest(system.mesh.rest.data(),
-                                                   system.mesh.rest.size());
-      buildMatrix(system, h, rest, Eigen::VectorXd::Zero(rest.size()), restA_);
-      system.constrainMatrix(restA_);
-      rebuilt_->rebuildNow(restA_);
-    }
-  }
-  noteRefusals();
+bool BackwardEulerIntegrator::canProject() const {
+  return !finiteDifferences() && stepSystem_ && stepSystem_->hasProjectedStiffness();
 }
 
-const SparseMatrix& BackwardEulerIntegrator::factorMatrix() {
-  if (!projectFactors_ || !stepSystem_) return A_;
+const SparseMatrix& BackwardEulerIntegrator::projectedMatrix() {
   const System& system = *stepSystem_;
   buildMatrix(system, stepH_, system.state.x, system.state.v, projectedA_, true);
   system.constrainMatrix(projectedA_);
-  ++diagnostics_.projectedFactors;
   return projectedA_;
 }
 
-void BackwardEulerIntegrator::noteRefusals() {
-  const bool amg = params.preconditioner == BackwardEulerParams::Preconditioning::kAmg;
-  int& refused = amg ? diagnostics_.amgFailures : diagnostics_.notPositiveDefinite;
-  if (rebuilt_->refusals() > refused) solvesSinceRefusal_ = 0;
-  refused = rebuilt_->refusals();
-  diagnostics_.factorizations = rebuilt_->builds();
-  if (!rebuilt_->lastRefusal().empty()) diagnostics_.lastRefusal = rebuilt_->lastRefusal();
+const SparseMatrix& BackwardEulerIntegrator::restMatrix() {
+  const System& system = *stepSystem_;
+  const Eigen::Map<const Eigen::VectorXd> rest(system.mesh.rest.data(), system.mesh.rest.size());
+  buildMatrix(system, stepH_, rest, Eigen::VectorXd::Zero(rest.size()), restA_);
+  system.constrainMatrix(restA_);
+  return restA_;
 }
 
-void BackwardEulerIntegrator::considerRefactor(int iterations, bool lostCurvature) {
-  if (!rebuilt_) return;
-  ++solvesSinceRefusal_;
-  // Negative curvature says the factor is stale, unless it is a projected one: the exact
-  // matrix is indefinite then, and a new factor would meet it again.
-  const bool slow = iterations > params.refactorIterations || (lostCurvature && !projectFactors_);
-  if (slow && !rebuilt_->busy() && solvesSinceRefusal_ >= kRefactorRetrySolves)
-    rebuilt_->rebuild(factorMatrix());
-  noteRefusals();
+LinearSolveSettings BackwardEulerParams::linearSolve() const {
+  LinearSolveSettings s;
+  s.method = linearSolver;
+  s.gmresRestart = gmresRestart;
+  s.tolerance = linearTolerance;
+  s.maxIterations = linearMaxIterations;
+  s.preconditioner = preconditioner;
+  s.refactorIterations = refactorIterations;
+  s.backgroundRefactor = backgroundRefactor;
+  s.choleskyBackend = choleskyBackend;
+  s.amg = amg;
+  return s;
 }
 
-int BackwardEulerIntegrator::solveUnit(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
-  using LinearSolver = BackwardEulerParams::LinearSolver;
-  const Preconditioner& M = choosePreconditioner();
-  const SolveSettings settings = solveSettings();
-  const MatrixOperator A(A_);
-  switch (params.linearSolver) {
-    case LinearSolver::kGmres: return finishSolve(gmres(A, b, x, M, settings, krylov_), 0, false);
-    case LinearSolver::kBiCgStab:
-      return finishSolve(biCgStab(A, b, x, M, settings, krylov_), 0, false);
-    case LinearSolver::kPcg: break;
-  }
-  return solvePcg(M, b, x);
-}
-
-// Preconditioned CG (A is symmetric positive definite unless the stiffness has turned
-// indefinite); where CG meets non-positive curvature, BiCGSTAB from the same guess.
-int BackwardEulerIntegrator::solvePcg(const Preconditioner& M, const Eigen::VectorXd& b,
-                                      Eigen::VectorXd& x) {
-  const SolveSettings settings = solveSettings();
-  const MatrixOperator A(A_);
-  guess_ = x;
-  SolveReport report;
-  const bool cgApplies = &M != &jacobi_ || jacobi_.positive();
-  if (cgApplies) {
-    report = conjugateGradients(A, b, x, M, settings, krylov_);
-    if (report.outcome != SolveOutcome::kNonPositiveCurvature) return finishSolve(report, 0, false);
-  }
-  ++diagnostics_.nonPositiveCurvature;
-  const int cgIterations = report.iterations;
-  x = guess_;
-  report = biCgStab(A, b, x, M, settings, krylov_);
-  return finishSolve(report, cgIterations, true);
-}
-
-int BackwardEulerIntegrator::finishSolve(const SolveReport& report, int earlierIterations,
-                                         bool lostCurvature) {
-  if (!report.converged()) ++diagnostics_.unconvergedLinear;
-  diagnostics_.lastRelativeResidual = report.relativeResidual;
-  diagnostics_.lastIterations = earlierIterations + report.iterations;
-  considerRefactor(diagnostics_.lastIterations, lostCurvature);
-  return diagnostics_.lastIterations;
+void BackwardEulerParams::setLinearSolve(const LinearSolveSettings& s) {
+  linearSolver = s.method;
+  gmresRestart = s.gmresRestart;
+  linearTolerance = s.tolerance;
+  linearMaxIterations = s.maxIterations;
+  preconditioner = s.preconditioner;
+  refactorIterations = s.refactorIterations;
+  backgroundRefactor = s.backgroundRefactor;
+  choleskyBackend = s.choleskyBackend;
+  amg = s.amg;
 }
 
 HalvingDoublingParams iterationStepControl(const BackwardEulerParams& params) {
@@ -234,7 +163,9 @@ BackwardEulerIntegrator::BackwardEulerIntegrator(BackwardEulerParams params)
 
 BackwardEulerIntegrator::BackwardEulerIntegrator(BackwardEulerParams params,
                                                  std::unique_ptr<StepSizeController> control)
-    : SteppedIntegrator(std::move(control)), params(params) {}
+    : SteppedIntegrator(std::move(control)),
+      params(params),
+      linear_(params.linearSolve(), LinearSolveRule::timeStepping()) {}
 
 FrameStart BackwardEulerIntegrator::beginFrame(System& system, double) {
   FrameStart start;
@@ -251,7 +182,8 @@ StepAttempt BackwardEulerIntegrator::attempt(System& system, const StepContext& 
     out.failure = std::move(why);
     return out;
   };
-  if (rebuilt_) rebuilt_->update();  // a factor finished in the background takes over here
+  linear_.configure(params.linearSolve());
+  linear_.installFinishedFactor();
   const State& s = system.state;
   const double h = step.h, endTime = step.end;
   const int linearBefore = report.linearIterations;
@@ -284,7 +216,8 @@ StepAttempt BackwardEulerIntegrator::attempt(System& system, const StepContext& 
   system.constrainMatrix(A_);
   stepSystem_ = &system;
   stepH_ = h;
-  ensureFactor(system, h);
+  linear_.ensureFactor(A_, this);
+  copyLinearDiagnostics();
   if (!params.warmStart || dv_.size() != n) dv_.setZero(n);
   else if (lastStep_ > 0.0 && h != lastStep_) dv_ *= h / lastStep_;  // dv grows with h
   lastStep_ = h;

@@ -2,6 +2,7 @@
 #include <algorithm>
 
 #include "tissue_trainer/core/integrate/backward_euler.h"
+#include "tissue_trainer/core/registry/linear_solve_keys.h"
 #include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
@@ -9,19 +10,6 @@ namespace tt {
 namespace {
 
 using Params = BackwardEulerParams;
-
-void readLinearSolver(const YamlEntry& spec, Params& p) {
-  if (spec.has("linear_solver")) {
-    const std::string name = spec["linear_solver"].choice({"pcg", "gmres", "bicgstab"});
-    p.linearSolver = name == "gmres"      ? Params::LinearSolver::kGmres
-                     : name == "bicgstab" ? Params::LinearSolver::kBiCgStab
-                                          : Params::LinearSolver::kPcg;
-  }
-  if (!spec.has("gmres_restart")) return;
-  if (p.linearSolver != Params::LinearSolver::kGmres)
-    spec["gmres_restart"].fail("applies only with linear_solver: gmres");
-  p.gmresRestart = spec["gmres_restart"].integerAtLeast(1);
-}
 
 // The iteration-count step control (adaptive: true) and its keys, which apply only with it.
 void readStepControl(const YamlEntry& spec, Params& p) {
@@ -83,23 +71,10 @@ void registerBackwardEuler(Registry& registry) {
   e.name = "backward_euler";
   e.description = "linearised implicit Euler (one Newton step), optionally full Newton";
   e.keys = {{"substeps", "equal substeps per frame (integer >= 1, default 1)"},
-            {"linear_tolerance", "relative residual of the linear solve (default 1e-3)"},
-            {"linear_max_iterations", "iteration limit of the linear solve (default 500)"},
             {"newton_iterations", "1: the linearised step (default); > 1: full Newton"},
             {"newton_tolerance", "relative residual of the implicit equations (default 1e-6)"},
             {"require_convergence", "true: an unconverged Newton loop fails the frame"},
             {"warm_start", "start the linear solve from the previous solution (default true)"},
-            {"preconditioner", "of the linear solve: cholesky (default; a sparse Cholesky "
-                               "factor of a recent system matrix, Jacobi while there is none), "
-                               "jacobi or amg (hypre "
-                               "BoomerAMG hierarchy of one, a V-cycle per iteration)"},
-            {"refactor_iterations", "cholesky, amg: a solve needing more iterations starts a "
-                                    "new factor or hierarchy (integer >= 1, default 15)"},
-            {"background_refactor", "cholesky: factorise on a thread of its own, the new factor "
-                                    "taking over at a later step (default true)"},
-            {"linear_solver", "pcg (default; BiCGSTAB where CG meets non-positive curvature), "
-                              "gmres or bicgstab, with the chosen preconditioner"},
-            {"gmres_restart", "gmres: Krylov vectors per cycle (integer >= 1, default 30)"},
             {"adaptive", "true: the step follows the Krylov iteration count (halved and redone "
                          "at upper_iterations, doubled at lower_iterations); default false"},
             {"lower_iterations", "adaptive: at or below, the next step doubles (default 10)"},
@@ -116,27 +91,18 @@ void registerBackwardEuler(Registry& registry) {
             {"fd_position_scale", "finite_difference: the perturbation is fd_epsilon * "
                                   "max(|x_i|, this) (m, default the mesh's largest extent)"},
             {"fd_velocity_scale", "finite_difference: the same for velocities (m/s, default 1)"}};
-  e.make = [](const YamlEntry& spec) -> std::unique_ptr<Integrator> {
+  for (KeyDoc& key : linearSolveKeyDocs(BackwardEulerParams().linearSolve()))
+    e.keys.push_back(std::move(key));
+  e.make = [](const YamlEntry& spec, Notes& notes) -> std::unique_ptr<Integrator> {
     BackwardEulerParams p;
     p.substeps = spec.integerAtLeast("substeps", 1, p.substeps);
-    p.linearTolerance = spec.positive("linear_tolerance", p.linearTolerance);
-    p.linearMaxIterations = spec.integerAtLeast("linear_max_iterations", 1, p.linearMaxIterations);
-    readLinearSolver(spec, p);
+    p.setLinearSolve(readLinearSolveSettings(spec, p.linearSolve(), notes));
     readStepControl(spec, p);
     readJacobian(spec, p);
     p.newtonIterations = spec.integerAtLeast("newton_iterations", 1, p.newtonIterations);
     p.newtonTolerance = spec.positive("newton_tolerance", p.newtonTolerance);
     p.requireConvergence = spec.boolean("require_convergence", p.requireConvergence);
     p.warmStart = spec.boolean("warm_start", p.warmStart);
-    using Preconditioning = BackwardEulerParams::Preconditioning;
-    if (spec.has("preconditioner")) {
-      const std::string name = spec["preconditioner"].choice({"jacobi", "cholesky", "amg"});
-      p.preconditioner = name == "cholesky" ? Preconditioning::kCholesky
-                         : name == "amg"    ? Preconditioning::kAmg
-                                            : Preconditioning::kJacobi;
-    }
-    p.refactorIterations = spec.integerAtLeast("refactor_iterations", 1, p.refactorIterations);
-    p.backgroundRefactor = spec.boolean("background_refactor", p.backgroundRefactor);
     return std::make_unique<BackwardEulerIntegrator>(p);
   };
   registry.add(std::move(e));

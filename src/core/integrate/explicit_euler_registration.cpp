@@ -10,7 +10,7 @@ IntegratorEntry eulerEntry(const char* name, const char* description, bool sympl
   e.name = name;
   e.description = description;
   e.keys = {{"time_step", "longest substep (s, default 1e-4)"}};
-  e.make = [symplectic](const YamlEntry& spec) -> std::unique_ptr<Integrator> {
+  e.make = [symplectic](const YamlEntry& spec, Notes&) -> std::unique_ptr<Integrator> {
     ExplicitEulerParams p;
     p.substep = spec.positive("time_step", p.substep);
     p.symplectic = symplectic;

@@ -11,7 +11,7 @@ void registerNewtonian(Registry& registry) {
   e.keys = {{"time_step", "longest substep (s, default 1e-3)"},
             {"equal_steps", "true: the equal-step form, even when steps change"},
             {"force_threshold", "N; free nodes with a smaller net force stay put (default 0: off)"}};
-  e.make = [](const YamlEntry& spec) -> std::unique_ptr<Integrator> {
+  e.make = [](const YamlEntry& spec, Notes&) -> std::unique_ptr<Integrator> {
     NewtonianParams p;
     p.substep = spec.positive("time_step", p.substep);
     p.assumeEqualSteps = spec.boolean("equal_steps", p.assumeEqualSteps);

@@ -1,8 +1,26 @@
 // Registers quasistatic in the scene registry.
 #include "tissue_trainer/core/integrate/quasistatic.h"
+#include "tissue_trainer/core/registry/linear_solve_keys.h"
 #include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
+
+namespace {
+
+// The Newton steps are solved by PCG with a factor made at once: its non-positive curvature is
+// what starts the shifted solves, and a slow step is solved again with the new factor.
+void refuseWhatNewtonCannotUse(const YamlEntry& spec, const LinearSolveSettings& s) {
+  if (s.method != LinearMethod::kPcg)
+    spec["linear_solver"].fail(
+        "quasistatic takes pcg only: its Newton steps need CG to report non-positive "
+        "curvature, which starts their shifted solves");
+  if (s.backgroundRefactor)
+    spec["background_refactor"].fail(
+        "quasistatic takes false only: a Newton step that was slow with the kept factor is "
+        "solved again at once with a new one, which cannot wait for a background factor");
+}
+
+}  // namespace
 
 void registerQuasistatic(Registry& registry) {
   IntegratorEntry e;
@@ -13,33 +31,28 @@ void registerQuasistatic(Registry& registry) {
             {"rel_tolerance", "... or at most this fraction of |f| at the frame's start "
                               "(default 1e-9)"},
             {"max_newton_iterations", "Newton iterations per frame (integer >= 1, default 50)"},
-            {"linear_tolerance", "relative residual of each CG solve (default 1e-10)"},
-            {"linear_max_iterations", "iteration limit of each CG solve (integer >= 1, default "
-                                      "2000)"},
             {"max_line_search", "halvings of a Newton step before it is given up (integer >= 0, "
                                 "default 30)"},
             {"max_pseudo_time_steps", "pseudo-time steps per frame when a Newton step finds no "
                                       "decrease, e.g. from inverted elements (integer >= 0, "
-                                      "default 200; 0 fails the frame there)"},
-            {"preconditioner", "of the CG solves: jacobi (default) or cholesky (a sparse "
-                               "Cholesky factor of a Newton matrix)"},
-            {"refactor_above", "cholesky: the factor is kept across Newton iterations and "
-                               "frames while CG needs at most this many iterations with it "
-                               "(integer >= 0, default 20; 0: a new factor every iteration)"}};
-  e.make = [](const YamlEntry& spec) -> std::unique_ptr<Integrator> {
+                                      "default 200; 0 fails the frame there)"}};
+  for (KeyDoc& key : linearSolveKeyDocs(EquilibriumParams().linearSolve())) {
+    if (key.key == "linear_solver") key.description = "pcg only (the default)";
+    if (key.key == "gmres_restart") key.description = "gmres only, which quasistatic does not take";
+    if (key.key == "background_refactor") key.description = "false only (the default)";
+    e.keys.push_back(std::move(key));
+  }
+  e.keys.push_back({"refactor_above", "deprecated: refactor_iterations, the same meaning"});
+  e.make = [](const YamlEntry& spec, Notes& notes) -> std::unique_ptr<Integrator> {
     EquilibriumParams p;
     p.absoluteTolerance = spec.positive("abs_tolerance", p.absoluteTolerance);
     p.relativeTolerance = spec.positive("rel_tolerance", p.relativeTolerance);
     p.maxNewtonIterations = spec.integerAtLeast("max_newton_iterations", 1, p.maxNewtonIterations);
-    p.linearTolerance = spec.positive("linear_tolerance", p.linearTolerance);
-    p.linearMaxIterations = spec.integerAtLeast("linear_max_iterations", 1, p.linearMaxIterations);
+    const LinearSolveSettings linear = readLinearSolveSettings(spec, p.linearSolve(), notes);
+    refuseWhatNewtonCannotUse(spec, linear);
+    p.setLinearSolve(linear);
     p.maxLineSearchSteps = spec.integerAtLeast("max_line_search", 0, p.maxLineSearchSteps);
-    p.refactorAbove = spec.integerAtLeast("refactor_above", 0, p.refactorAbove);
     p.maxPseudoTimeSteps = spec.integerAtLeast("max_pseudo_time_steps", 0, p.maxPseudoTimeSteps);
-    if (spec.has("preconditioner"))
-      p.preconditioner = spec["preconditioner"].choice({"jacobi", "cholesky"}) == "cholesky"
-                             ? EquilibriumParams::Preconditioning::kCholesky
-                             : EquilibriumParams::Preconditioning::kJacobi;
     return std::make_unique<QuasistaticIntegrator>(p);
   };
   registry.add(std::move(e));

@@ -15,7 +15,7 @@ void registerRadauIIA(Registry& registry) {
             {"initial_step", "first (or fixed) step (s, default 1e-3)"},
             {"max_step", "longest step (s)"},
             {"max_newton_iterations", "Newton iterations per step (default 7)"}};
-  e.make = [](const YamlEntry& spec) -> std::unique_ptr<Integrator> {
+  e.make = [](const YamlEntry& spec, Notes&) -> std::unique_ptr<Integrator> {
     RadauOptions o;
     if (spec.has("jacobian")) {
       const std::string j = spec["jacobian"].choice({"analytical", "numerical", "simplified"});

@@ -43,7 +43,7 @@ void registerRk4Adaptive(Registry& registry) {
             {"max_step", "longest step (s, default unlimited)"},
             {"max_substeps", "steps per frame, kept and rejected, before the frame fails "
                              "(integer >= 1, default 100000)"}};
-  e.make = [](const YamlEntry& spec) -> std::unique_ptr<Integrator> {
+  e.make = [](const YamlEntry& spec, Notes&) -> std::unique_ptr<Integrator> {
     return std::make_unique<Rk4AdaptiveIntegrator>(readParams(spec));
   };
   registry.add(std::move(e));

@@ -1,6 +1,7 @@
 #include "tissue_trainer/core/registry/registry.h"
 
 #include <algorithm>
+#include <iostream>
 #include <set>
 
 #include "tissue_trainer/core/registry/model_context.h"
@@ -132,8 +133,15 @@ std::unique_ptr<ForceModel> Registry::makeForceModel(const YamlEntry& spec,
   return entry.make(spec, context);
 }
 
+std::unique_ptr<Integrator> Registry::makeIntegrator(const YamlEntry& spec, Notes& notes) const {
+  return entryOfType(spec, integrators_, "integrator").make(spec, notes);
+}
+
 std::unique_ptr<Integrator> Registry::makeIntegrator(const YamlEntry& spec) const {
-  return entryOfType(spec, integrators_, "integrator").make(spec);
+  Notes notes;
+  std::unique_ptr<Integrator> integrator = makeIntegrator(spec, notes);
+  for (const std::string& note : notes) std::cerr << note << "\n";
+  return integrator;
 }
 
 const LawEntry& Registry::law(const YamlEntry& entry) const {

@@ -26,9 +26,12 @@ std::string joinWords(const Words& words) {
 }  // namespace
 
 void YamlEntry::fail(const std::string& expected) const {
-  const long line = node_.Mark().line >= 0 ? node_.Mark().line + 1 : 0;
-  throw InputError(*file_, line, (path_.empty() ? "" : path_ + ": ") + expected);
+  throw InputError(*file_, line(), (path_.empty() ? "" : path_ + ": ") + expected);
 }
+
+long YamlEntry::line() const { return node_.Mark().line >= 0 ? node_.Mark().line + 1 : 0; }
+
+std::string YamlEntry::where() const { return *file_ + ":" + std::to_string(line()); }
 
 void YamlEntry::expectMap(std::initializer_list<const char*> allowed) const {
   expectMap(std::vector<std::string>(allowed.begin(), allowed.end()));

@@ -603,7 +603,7 @@ Scene loadScene(const std::string& path) {
   system.prescribe(0.0, system.state.x, system.state.v);
 
   const YamlEntry integrator = top["integrator"];
-  scene.integrator = registry().makeIntegrator(integrator);
+  scene.integrator = registry().makeIntegrator(integrator, scene.notes);
   if (scene.integrator->needsStiffness() && !system.hasStiffness()) {
     std::string missing;
     for (const auto& m : system.models)

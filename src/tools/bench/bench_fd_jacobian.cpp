@@ -1,5 +1,5 @@
 // Cost of backward Euler's Jacobians per step: the analytic stiffness and velocity Jacobian
-// against forward differences of the total force (integrate/finite_difference_jacobian.h),
+// against forward differences of the total force (solve/finite_difference_jacobian.h),
 // one DOF per force evaluation and coloured, on neo-Hookean box grids (6 tets per cell) of
 // about 1e3 and 1e4 tets, strained 5 % in shear with a 1 % jitter, moving, with per-DOF
 // damping. Per variant: the median wall time of df/dx and df/dv together (what one step
@@ -18,11 +18,11 @@
 #include "common/bench_support.h"
 #include "common/command_line.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
-#include "tissue_trainer/core/integrate/finite_difference_jacobian.h"
 #include "tissue_trainer/core/material/neo_hookean.h"
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/model/hyperelastic.h"
 #include "tissue_trainer/core/parallel.h"
+#include "tissue_trainer/core/solve/finite_difference_jacobian.h"
 
 namespace {
 

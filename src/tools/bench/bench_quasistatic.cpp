@@ -20,7 +20,6 @@
 
 #include "common/bench_support.h"
 #include "tissue_trainer/core/fit/landmark_fit.h"
-#include "tissue_trainer/core/integrate/equilibrium.h"
 #include "tissue_trainer/core/integrate/quasistatic.h"
 #include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/mesh/generators.h"
@@ -28,6 +27,7 @@
 #include "tissue_trainer/core/model/muscle_groups.h"
 #include "tissue_trainer/core/parallel.h"
 #include "tissue_trainer/core/scene/scene.h"
+#include "tissue_trainer/core/solve/equilibrium.h"
 
 namespace {
 
@@ -54,8 +54,8 @@ std::vector<Setting> settings(const tt::EquilibriumParams& base, bool all) {
   std::vector<Setting> out;
   out.push_back({"default", base});
   if (all) {
-    out.push_back({"refactor_above=0", base});
-    out.back().params.refactorAbove = 0;
+    out.push_back({"refactor_iterations=0", base});
+    out.back().params.refactorIterations = 0;
   }
   for (double tolerance : all ? std::vector<double>{1e-6, 1e-4} : std::vector<double>{1e-6}) {
     char name[32];

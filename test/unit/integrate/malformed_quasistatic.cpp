@@ -48,7 +48,7 @@ TEST(QuasistaticScene, KeysReachTheSolver) {
   EXPECT_EQ(p.linearMaxIterations, 300);
   EXPECT_EQ(p.maxLineSearchSteps, 12);
   EXPECT_EQ(p.preconditioner, EquilibriumParams::Preconditioning::kCholesky);
-  EXPECT_EQ(p.refactorAbove, 7);
+  EXPECT_EQ(p.refactorIterations, 7);
   EXPECT_EQ(p.maxPseudoTimeSteps, 40);
 }
 
@@ -67,7 +67,7 @@ TEST(QuasistaticScene, EachMalformedKeyNamesFileLineAndKey) {
        "integrator.linear_tolerance"},
       {"negative line search", replaced(s, "max_line_search: 12", "max_line_search: -1"), 14,
        "integrator.max_line_search"},
-      {"unknown preconditioner", replaced(s, "preconditioner: cholesky", "preconditioner: amg"), 15,
+      {"unknown preconditioner", replaced(s, "preconditioner: cholesky", "preconditioner: ilu"), 15,
        "integrator.preconditioner"},
       {"negative refactor_above", replaced(s, "refactor_above: 7", "refactor_above: -1"), 16,
        "integrator.refactor_above"},

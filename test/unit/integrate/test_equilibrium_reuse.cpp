@@ -1,4 +1,4 @@
-// What makes the warm-started quasistatic update cheap (integrate/equilibrium.h): the Cholesky
+// What makes the warm-started quasistatic update cheap (solve/equilibrium.h): the Cholesky
 // factor kept across Newton iterations and solves gives the equilibria of a new factor every
 // iteration, with fewer factorisations; the energy the line search reads from the force pass
 // is the models' energy; muscle_groups' one-pass total follows activation changes made by
@@ -8,11 +8,11 @@
 #include <random>
 
 #include "../model_test_util.h"
-#include "tissue_trainer/core/integrate/equilibrium.h"
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/model/collision.h"
 #include "tissue_trainer/core/model/gravity.h"
 #include "tissue_trainer/core/model/muscle_groups.h"
+#include "tissue_trainer/core/solve/equilibrium.h"
 
 namespace tt {
 namespace {
@@ -54,8 +54,8 @@ TEST(Equilibrium, KeptCholeskyFactorGivesTheEquilibriaOfNewFactors) {
   EquilibriumParams p;
   p.preconditioner = EquilibriumParams::Preconditioning::kCholesky;
   EquilibriumParams everyIteration = p;
-  everyIteration.refactorAbove = 0;
-  ASSERT_GT(p.refactorAbove, 0) << "the default keeps the factor";
+  everyIteration.refactorIterations = 0;
+  ASSERT_GT(p.refactorIterations, 0) << "the default keeps the factor";
   EquilibriumSolver keptSolver(p), freshSolver(everyIteration);
   const ActivationRef upperKept = kept->findActivation("upper");
   const ActivationRef upperFresh = fresh->findActivation("upper");
@@ -80,6 +80,34 @@ TEST(Equilibrium, KeptCholeskyFactorGivesTheEquilibriaOfNewFactors) {
               keptFactors, freshFactors, keptNewton, freshNewton);
   EXPECT_GT(tipRise, 0.0) << "the upper muscle lifts the tip";
   EXPECT_LT(keptFactors, freshFactors / 2);
+}
+
+// quasistatic takes the preconditioners of backward Euler: BoomerAMG's hierarchies, kept and
+// rebuilt by the same rule as the factor, give the equilibria of Jacobi-PCG.
+TEST(Equilibrium, AmgHierarchyGivesTheEquilibriaOfJacobi) {
+  auto amg = muscleBeam();
+  auto jacobi = muscleBeam();
+  EquilibriumParams p;
+  p.preconditioner = EquilibriumParams::Preconditioning::kAmg;
+  EquilibriumSolver amgSolver(p), jacobiSolver(EquilibriumParams{});
+  const ActivationRef upperAmg = amg->findActivation("upper");
+  const ActivationRef upperJacobi = jacobi->findActivation("upper");
+  int amgLinear = 0, jacobiLinear = 0, hierarchies = 0;
+  for (double a : {0.0, 0.3}) {
+    upperAmg.model->setActivation(upperAmg.index, a);
+    upperJacobi.model->setActivation(upperJacobi.index, a);
+    const EquilibriumReport ra = amgSolver.solve(*amg, amg->state.x);
+    const EquilibriumReport rj = jacobiSolver.solve(*jacobi, jacobi->state.x);
+    ASSERT_TRUE(ra.converged()) << a << ": " << ra.reason;
+    ASSERT_TRUE(rj.converged()) << a << ": " << rj.reason;
+    amgLinear += ra.linearIterations, jacobiLinear += rj.linearIterations;
+    hierarchies += ra.factorizations;
+    EXPECT_LT((amg->state.x - jacobi->state.x).lpNorm<Eigen::Infinity>(), 1e-9) << a;
+  }
+  std::printf("CG iterations %d (AMG, %d hierarchies) and %d (Jacobi)\n", amgLinear, hierarchies,
+              jacobiLinear);
+  EXPECT_GT(hierarchies, 0);
+  EXPECT_LT(amgLinear, jacobiLinear);
 }
 
 // The line search takes the potential energy from the force pass (ForceModel::addForce returns

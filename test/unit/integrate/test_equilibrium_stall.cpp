@@ -5,7 +5,7 @@
 // full step is refused; a step of a few millionths of it changes the energy by less than the
 // round-off and the residual by as little. Such a step is no progress: taken as one, Newton
 // creeps for all its iterations at the same residual and the pseudo-time recovery, which takes
-// over where the line search fails, never starts (integrate/equilibrium.h).
+// over where the line search fails, never starts (solve/equilibrium.h).
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
@@ -15,11 +15,11 @@
 #include <memory>
 #include <vector>
 
-#include "tissue_trainer/core/integrate/equilibrium.h"
 #include "tissue_trainer/core/integrate/quasistatic.h"
 #include "tissue_trainer/core/material/teran_muscle.h"
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/model/muscle_groups.h"
+#include "tissue_trainer/core/solve/equilibrium.h"
 #include "tissue_trainer/core/system.h"
 
 namespace tt {

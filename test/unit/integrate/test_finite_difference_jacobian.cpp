@@ -1,4 +1,4 @@
-// Finite-difference Jacobians of the total force (integrate/finite_difference_jacobian.h):
+// Finite-difference Jacobians of the total force (solve/finite_difference_jacobian.h):
 // against the assembled analytic stiffness and velocity Jacobian on a small neo-Hookean mesh
 // with axis friction and per-DOF damping, coloured and not; the colouring is valid and far
 // smaller than one group per DOF; backward Euler with them takes the analytic step, and runs
@@ -12,12 +12,12 @@
 #include "implicit_test_util.h"
 #include "oscillators.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
-#include "tissue_trainer/core/integrate/finite_difference_jacobian.h"
 #include "tissue_trainer/core/material/neo_hookean.h"
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/model/adamss/axis_friction.h"
 #include "tissue_trainer/core/model/adamss/torsion_springs.h"
 #include "tissue_trainer/core/model/hyperelastic.h"
+#include "tissue_trainer/core/solve/finite_difference_jacobian.h"
 #include "tissue_trainer/core/system.h"
 
 namespace tt {

@@ -17,11 +17,11 @@
 #include <string>
 
 #include "tissue_trainer/core/integrate/backward_euler.h"
-#include "tissue_trainer/core/integrate/equilibrium.h"
 #include "tissue_trainer/core/integrate/quasistatic.h"
 #include "tissue_trainer/core/material/teran_muscle.h"
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/model/hyperelastic.h"
+#include "tissue_trainer/core/solve/equilibrium.h"
 #include "tissue_trainer/core/system.h"
 
 namespace tt {

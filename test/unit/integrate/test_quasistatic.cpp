@@ -1,4 +1,4 @@
-// The quasistatic equilibrium solve (integrate/equilibrium.h) and the `quasistatic`
+// The quasistatic equilibrium solve (solve/equilibrium.h) and the `quasistatic`
 // integrator: Newton's quadratic convergence, the patch test, a contracting muscle against the
 // one-element uniaxial answer of its law, a hanging box against backward Euler run to rest.
 #include <gtest/gtest.h>
@@ -10,7 +10,6 @@
 
 #include "../model_test_util.h"
 #include "../scene/scene_test_util.h"
-#include "tissue_trainer/core/integrate/equilibrium.h"
 #include "tissue_trainer/core/integrate/quasistatic.h"
 #include "tissue_trainer/core/material/teran_muscle.h"
 #include "tissue_trainer/core/mesh/generators.h"
@@ -18,6 +17,7 @@
 #include "tissue_trainer/core/model/hyperelastic.h"
 #include "tissue_trainer/core/registry/registry.h"
 #include "tissue_trainer/core/scene/scene.h"
+#include "tissue_trainer/core/solve/equilibrium.h"
 
 namespace tt {
 namespace {

@@ -60,7 +60,7 @@ ForceModelEntry dummyModel(const std::string& name) {
 IntegratorEntry dummyIntegrator(const std::string& name) {
   IntegratorEntry e;
   e.name = name;
-  e.make = [](const YamlEntry&) -> std::unique_ptr<Integrator> { return nullptr; };
+  e.make = [](const YamlEntry&, Notes&) -> std::unique_ptr<Integrator> { return nullptr; };
   return e;
 }
 

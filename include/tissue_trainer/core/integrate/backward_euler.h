@@ -31,32 +31,22 @@
 // doubles the next one, within [minStep, maxStep]; a step at minStep is kept whatever it
 // needed (the count says the solve is costly, not that the step is wrong).
 //
-// Preconditioners: Jacobi, or the sparse Cholesky factor of an earlier system matrix
-// (solve/cholesky_preconditioner.h). The first step factors its own matrix (or, when that is
-// not positive definite, the matrix of the rest shape, which is); a solve that
-// needs more than refactorIterations iterations, or meets non-positive curvature, starts a
-// new factorisation of its matrix (on a thread of its own when backgroundRefactor), which
-// takes over at the start of a later step. A matrix that is not positive definite keeps the
-// old factor in use (Jacobi while there is none), and the next attempt waits
-// kRefactorRetrySolves solves.
-//
-// Or an algebraic multigrid hierarchy (solve/amg_preconditioner.h, hypre's BoomerAMG) of an
-// earlier system matrix, one V-cycle per iteration, kept and rebuilt by the same rules; its
-// set-up always runs synchronously, right after the slow solve (backgroundRefactor does not
-// apply), and it does not refuse an indefinite matrix (CG meets the non-positive curvature
-// instead, and the solve is redone with BiCGSTAB as above). A hypre error counts as a refusal
-// (amgFailures, with hypre's message in lastRefusal) and the solves use Jacobi until a set-up succeeds.
+// Preconditioners: Jacobi, the sparse Cholesky factor of an earlier system matrix, or a
+// BoomerAMG hierarchy of one, kept and rebuilt by the rule of solve/linear_solve.h
+// (LinearSolveRule::timeStepping): the first step factors its own matrix, a solve that needs
+// more than refactorIterations iterations (or meets non-positive curvature) starts a new factor
+// that takes over at the start of a later step (in the background when backgroundRefactor;
+// AMG always synchronously), Jacobi serves while there is none, and a refused factorisation
+// falls back to the matrix with the models' PSD-projected stiffness, then to the rest shape's.
 #include <Eigen/Core>
 #include <limits>
 #include <memory>
 #include <string>
 
-#include "tissue_trainer/core/integrate/finite_difference_jacobian.h"
 #include "tissue_trainer/core/integrate/step_control.h"
 #include "tissue_trainer/core/integrate/stepped_integrator.h"
-#include "tissue_trainer/core/solve/amg_preconditioner.h"
-#include "tissue_trainer/core/solve/cholesky_preconditioner.h"
-#include "tissue_trainer/core/solve/krylov.h"
+#include "tissue_trainer/core/solve/finite_difference_jacobian.h"
+#include "tissue_trainer/core/solve/linear_solve.h"
 
 namespace tt {
 
@@ -70,13 +60,13 @@ struct BackwardEulerParams {
   double newtonTolerance = 1e-6;  // relative residual of the implicit equations
   bool requireConvergence = false;  // Newton not converged: restore the frame, ok = false
   bool warmStart = true;
-  enum class Preconditioning { kJacobi, kCholesky, kAmg };
+  using Preconditioning = PreconditionerKind;
   Preconditioning preconditioner = Preconditioning::kCholesky;
-  int refactorIterations = 15;    // cholesky, amg: a solve that needs more starts a new one
+  int refactorIterations = 15;    // cholesky, amg: a solve that needs more starts a new one (0: every solve)
   bool backgroundRefactor = true;  // cholesky: factorise on a thread of its own
   CholeskyBackend choleskyBackend = CholeskyBackend::kCholmod;
   AmgSettings amg;                // amg: BoomerAMG's options
-  enum class LinearSolver { kPcg, kGmres, kBiCgStab };
+  using LinearSolver = LinearMethod;
   LinearSolver linearSolver = LinearSolver::kPcg;
   int gmresRestart = 30;          // kGmres: Krylov vectors per cycle
   // Iteration-count step control (read when constructed); substeps does not apply.
@@ -88,28 +78,24 @@ struct BackwardEulerParams {
   enum class Jacobian { kAnalytic, kFiniteDifference };
   Jacobian jacobian = Jacobian::kAnalytic;
   FiniteDifferenceSettings finiteDifference;  // kFiniteDifference
+
+  // The linear solve's part of these parameters.
+  LinearSolveSettings linearSolve() const;
+  void setLinearSolve(const LinearSolveSettings& settings);
 };
 
 // The controller of the iteration-count step control for these parameters (adaptive).
 HalvingDoublingParams iterationStepControl(const BackwardEulerParams& params);
 
-// Counts over the integrator's life (not per frame).
-struct BackwardEulerDiagnostics {
-  int nonPositiveCurvature = 0;  // CG solves abandoned for BiCGSTAB
-  int unconvergedLinear = 0;     // solves that hit linearMaxIterations
-  int unconvergedNewton = 0;     // steps whose Newton loop hit newtonIterations (> 1)
-  double lastRelativeResidual = 0.0;  // |b - A dv| / |b| reached by the last linear solve
-  int lastIterations = 0;             // of the last linear solve
-  int factorizations = 0;             // Cholesky factors installed or AMG hierarchies set up
-  int notPositiveDefinite = 0;        // matrices the Cholesky factorisation refused
-  int projectedFactors = 0;           // factor builds started from the PSD-projected matrix (after a refusal)
-  int amgFailures = 0;                // AMG set-ups and V-cycles that hypre failed
-  std::string lastRefusal;            // why the last refused factorisation or set-up was refused
-  int jacobiFallbacks = 0;            // solves preconditioned by Jacobi for want of a factor
+// Counts over the integrator's life (not per frame): the linear solve's
+// (LinearSolveDiagnostics: nonPositiveCurvature counts the CG solves redone with BiCGSTAB) and
+// the integrator's own.
+struct BackwardEulerDiagnostics : LinearSolveDiagnostics {
+  int unconvergedNewton = 0;          // steps whose Newton loop hit newtonIterations (> 1)
   long jacobianForceEvaluations = 0;  // force evaluations of finite-difference Jacobians
 };
 
-class BackwardEulerIntegrator : public SteppedIntegrator {
+class BackwardEulerIntegrator : public SteppedIntegrator, private FactorFallbacks {
  public:
   explicit BackwardEulerIntegrator(BackwardEulerParams params = {});
   // With a step-size controller of the caller's (params.substeps and adaptive do not apply).
@@ -148,39 +134,22 @@ class BackwardEulerIntegrator : public SteppedIntegrator {
                          Eigen::VectorXd& out) const;
   // Solves A x = b (x holds the initial guess); returns the iterations used.
   int solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
-  int solveUnit(const Eigen::VectorXd& b, Eigen::VectorXd& x);  // max |b_i| = 1
-  int solvePcg(const Preconditioner& M, const Eigen::VectorXd& b, Eigen::VectorXd& x);
-  SolveSettings solveSettings() const {
-    return {params.linearTolerance, params.linearMaxIterations, params.gmresRestart};
-  }
-  // With Cholesky or AMG and none installed: builds it from A_ now. When A_ is refused (not
-  // positive definite: a stiffness softened by compression) it is built from the matrix with
-  // the models' PSD-projected stiffness at the same state, and so are the factors after it;
-  // without a projection, from the rest shape's matrix. All constrained as A_ is.
-  void ensureFactor(const System& system, double h);
-  // The matrix a factor is built from now: A_, or after a refusal the projected matrix of the
-  // step being taken (stepSystem_, stepH_).
-  const SparseMatrix& factorMatrix();
-  // The preconditioner for A_ in this solve: the factor or hierarchy when installed, else
-  // Jacobi.
-  const Preconditioner& choosePreconditioner();
-  // After a solve of `iterations`: starts a new factor or hierarchy of A_ when it was slow.
-  void considerRefactor(int iterations, bool lostCurvature);
-  void noteRefusals();  // copies the build counts into diagnostics_, noting new refusals
-  int finishSolve(const SolveReport& report, int earlierIterations, bool lostCurvature);
+  void copyLinearDiagnostics();
+  // The matrices the linear solve falls back on when A_ cannot be factored: with the models'
+  // PSD-projected stiffness at the state of the step being taken (stepSystem_, stepH_), and
+  // at the rest shape. Both constrained as A_ is.
+  bool canProject() const override;
+  const SparseMatrix& projectedMatrix() override;
+  const SparseMatrix& restMatrix() override;
 
   BackwardEulerDiagnostics diagnostics_;
   SparseMatrix A_, C_, restA_, projectedA_;
-  bool projectFactors_ = false;        // a factor of A_ was refused: factor projectedA_
-  const System* stepSystem_ = nullptr;  // the step being taken (attempt), for factorMatrix
+  LinearSolve linear_;
+  const System* stepSystem_ = nullptr;  // the step being taken (attempt), for the fallbacks
   double stepH_ = 0.0;
   std::vector<int> diagonal_;  // offset of (i, i) in the value array of the system pattern
   Eigen::VectorXd dv_, f_, rhs_, constrainedDv_, residual_, correction_;
-  Eigen::VectorXd unitB_, guess_, diagonalValues_;
-  JacobiPreconditioner jacobi_;
-  std::unique_ptr<RebuiltPreconditioner> rebuilt_;  // with kCholesky or kAmg
-  int solvesSinceRefusal_ = 0;  // since the last refused factorisation
-  KrylovWorkspace krylov_;
+  Eigen::VectorXd unitB_;
   Eigen::VectorXd x1_, v1_, targetX_, targetV_;
   std::unique_ptr<FiniteDifferenceJacobian> differences_;  // with kFiniteDifference
   Eigen::VectorXd differenceForce_;

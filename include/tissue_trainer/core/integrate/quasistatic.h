@@ -7,8 +7,8 @@
 // state back (under the stability guard it is then redone in pieces: smaller load steps).
 #include <Eigen/Core>
 
-#include "tissue_trainer/core/integrate/equilibrium.h"
 #include "tissue_trainer/core/integrate/stepped_integrator.h"
+#include "tissue_trainer/core/solve/equilibrium.h"
 
 namespace tt {
 

@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "tissue_trainer/core/integrate/equilibrium.h"
+#include "tissue_trainer/core/solve/equilibrium.h"
 #include "tissue_trainer/core/system.h"
 
 namespace tt {

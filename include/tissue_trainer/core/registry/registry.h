@@ -91,7 +91,11 @@ struct LawEntry {
 // The element model over the laws ("hyperelastic"); it must be registered before the laws.
 constexpr const char* kLawModel = "hyperelastic";
 
-using IntegratorFactory = std::function<std::unique_ptr<Integrator>(const YamlEntry& spec)>;
+// What reading a scene noticed without refusing it (a deprecated key), one line each
+// ("FILE:LINE: ..."); the scene keeps them (Scene::notes).
+using Notes = std::vector<std::string>;
+using IntegratorFactory =
+    std::function<std::unique_ptr<Integrator>(const YamlEntry& spec, Notes& notes)>;
 
 struct IntegratorEntry {
   std::string name;
@@ -134,6 +138,8 @@ class Registry {
   // listing the known names) and every other key declared by the entry.
   std::unique_ptr<ForceModel> makeForceModel(const YamlEntry& spec,
                                              const ModelContext& context) const;
+  std::unique_ptr<Integrator> makeIntegrator(const YamlEntry& spec, Notes& notes) const;
+  // The same with the notes printed to stderr, one line each.
   std::unique_ptr<Integrator> makeIntegrator(const YamlEntry& spec) const;
   // The law named by `entry` (a `law: NAME` value), or InputError listing the known laws.
   const LawEntry& law(const YamlEntry& entry) const;

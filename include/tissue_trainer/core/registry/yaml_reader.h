@@ -23,6 +23,9 @@ class YamlEntry {
   const std::string& file() const { return *file_; }
 
   [[noreturn]] void fail(const std::string& expected) const;
+  // "FILE:LINE", the place of this entry (as fail() names it).
+  std::string where() const;
+  long line() const;  // 1-based; 0 when unknown
 
   // This entry must be a map whose keys are all in `allowed`.
   void expectMap(std::initializer_list<const char*> allowed) const;

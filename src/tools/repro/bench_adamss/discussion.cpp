@@ -44,9 +44,9 @@
 #include "experiment_support.h"
 #include "tissue_trainer/core/integrate/abm3.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
-#include "tissue_trainer/core/integrate/equilibrium.h"
 #include "tissue_trainer/core/integrate/explicit_euler.h"
 #include "tissue_trainer/core/model/gravity.h"
+#include "tissue_trainer/core/solve/equilibrium.h"
 
 namespace tt {
 namespace bench_adamss {

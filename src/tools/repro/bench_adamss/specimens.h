@@ -18,10 +18,10 @@
 #include <vector>
 
 #include "experiments.h"
-#include "tissue_trainer/core/integrate/equilibrium.h"
 #include "tissue_trainer/core/integrate/quasistatic.h"
 #include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/scene/scene.h"
+#include "tissue_trainer/core/solve/equilibrium.h"
 
 namespace tt {
 namespace bench_adamss {

@@ -1,4 +1,4 @@
-#include "tissue_trainer/core/integrate/equilibrium.h"
+#include "tissue_trainer/core/solve/equilibrium.h"
 
 #include <algorithm>
 #include <cmath>
@@ -43,30 +43,39 @@ double EquilibriumSolver::residualAt(const System& system, const Eigen::VectorXd
   return f.stableNorm();  // a body nearly at rest: squares that underflow
 }
 
-bool EquilibriumSolver::conjugateGradientSolve(const Preconditioner& M, EquilibriumReport& report,
-                                               int maxIterations, bool mustConverge) {
-  const SolveSettings settings{params.linearTolerance, maxIterations, 30};
+bool EquilibriumSolver::conjugateGradientSolve(const Preconditioner& M, EquilibriumReport& report) {
+  const SolveSettings settings{params.linearTolerance, params.linearMaxIterations, 30};
   dx_.setZero(f_.size());
   const SolveReport solved = conjugateGradients(MatrixOperator(A_), f_, dx_, M, settings, krylov_);
   report.linearIterations += solved.iterations;
-  if (mustConverge && !solved.converged()) return false;
-  // An unconverged solve still gives an inexact Newton direction; the line search judges it.
   return solved.outcome != SolveOutcome::kNonPositiveCurvature;
 }
 
-bool EquilibriumSolver::choleskyDirection(EquilibriumReport& report) {
-  if (!cholesky_) cholesky_ = std::make_unique<CholeskyPreconditioner>(false);
-  // The kept factor, while CG converges quickly with it to a descent direction: the same
-  // direction as with a new factor, to the linear tolerance.
-  if (params.refactorAbove > 0 && cholesky_->ready() && factoredRows_ == A_.rows() &&
-      conjugateGradientSolve(*cholesky_, report, params.refactorAbove, true) &&
-      f_.dot(dx_) > 0.0)
-    return true;
-  // Refused when -K is not positive definite: the caller's shifted solves take over.
-  if (!cholesky_->rebuildNow(A_)) return false;
-  ++report.factorizations;
-  factoredRows_ = A_.rows();
-  return conjugateGradientSolve(*cholesky_, report, params.linearMaxIterations);
+bool EquilibriumSolver::unshiftedDirection(EquilibriumReport& report) {
+  linear_.configure(params.linearSolve());
+  const int factorsBefore = linear_.diagnostics().factorizations;
+  dx_.setZero(f_.size());
+  const LinearSolveReport solved = linear_.solve(A_, f_, dx_);
+  report.linearIterations += solved.iterations;
+  report.factorizations += linear_.diagnostics().factorizations - factorsBefore;
+  // An unconverged solve still gives an inexact Newton direction; the line search judges it.
+  return !solved.refused && !solved.lostCurvature;
+}
+
+LinearSolveSettings EquilibriumParams::linearSolve() const {
+  LinearSolveSettings s;
+  s.tolerance = linearTolerance;
+  s.maxIterations = linearMaxIterations;
+  s.preconditioner = preconditioner;
+  s.refactorIterations = refactorIterations;
+  return s;
+}
+
+void EquilibriumParams::setLinearSolve(const LinearSolveSettings& s) {
+  linearTolerance = s.tolerance;
+  linearMaxIterations = s.maxIterations;
+  preconditioner = s.preconditioner;
+  refactorIterations = s.refactorIterations;
 }
 
 void EquilibriumSolver::scaledForceDirection() {
@@ -93,14 +102,7 @@ bool EquilibriumSolver::newtonDirection(const System& system, const Eigen::Vecto
   double* a = A_.valuePtr();
   diagonalValues_.resize(A_.rows());
   for (int row = 0; row < A_.rows(); ++row) diagonalValues_[row] = a[diagonal_[row]];
-  jacobi_.setDiagonal(diagonalValues_);
-
-  if (params.preconditioner == EquilibriumParams::Preconditioning::kCholesky) {
-    if (choleskyDirection(report)) return true;
-  } else if (jacobi_.positive() &&
-             conjugateGradientSolve(jacobi_, report, params.linearMaxIterations)) {
-    return true;
-  }
+  if (unshiftedDirection(report)) return true;
 
   // -K is not positive definite here: -K + mu I over the free DOFs, mu growing tenfold.
   double meanDiagonal = 0.0;
@@ -111,21 +113,19 @@ bool EquilibriumSolver::newtonDirection(const System& system, const Eigen::Vecto
       ++free;
     }
   meanDiagonal = free > 0 ? meanDiagonal / free : 1.0;
-  // A kept Cholesky factor (of an earlier, positive definite matrix) preconditions the shifted
-  // solves better than Jacobi; CG meets the non-positive curvature all the same.
-  const bool factored = params.preconditioner == EquilibriumParams::Preconditioning::kCholesky &&
-                        cholesky_->ready() && factoredRows_ == A_.rows();
+  // A kept factor (of an earlier, positive definite matrix) preconditions the shifted solves
+  // better than Jacobi; CG meets the non-positive curvature all the same.
+  const Preconditioner* factor = linear_.factor(A_.rows());
   double applied = 0.0, mu = params.shiftFraction * meanDiagonal;
   for (int k = 0; k < params.maxShifts; ++k, mu *= 10.0) {
     for (int row = 0; row < A_.rows(); ++row)
       if (!system.isConstrained[row]) a[diagonal_[row]] += mu - applied;
     applied = mu;
     for (int row = 0; row < A_.rows(); ++row) diagonalValues_[row] = a[diagonal_[row]];
-    const bool jacobiUsable = jacobi_.setDiagonal(diagonalValues_) && jacobi_.positive();
-    if ((factored || jacobiUsable) &&
-        conjugateGradientSolve(factored ? static_cast<const Preconditioner&>(*cholesky_)
-                                        : jacobi_,
-                               report, params.linearMaxIterations)) {
+    const bool jacobiUsable =
+        shiftedJacobi_.setDiagonal(diagonalValues_) && shiftedJacobi_.positive();
+    if ((factor || jacobiUsable) &&
+        conjugateGradientSolve(factor ? *factor : shiftedJacobi_, report)) {
       ++report.shiftedSolves;
       return true;
     }

@@ -1,4 +1,4 @@
-#include "tissue_trainer/core/integrate/finite_difference_jacobian.h"
+#include "tissue_trainer/core/solve/finite_difference_jacobian.h"
 
 #include <algorithm>
 #include <cmath>

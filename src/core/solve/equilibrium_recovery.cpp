@@ -2,7 +2,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "tissue_trainer/core/integrate/equilibrium.h"
+#include "tissue_trainer/core/solve/equilibrium.h"
 
 namespace tt {
 
@@ -31,19 +31,14 @@ bool PseudoTimeRecovery::solveStep(const System& system, const EquilibriumParams
   for (int row = 0; row < A_.rows(); ++row)
     if (!system.isConstrained[row]) shiftedDiagonal_[row] += weight_[row] / tau;
   for (int row = 0; row < A_.rows(); ++row) a[diagonal_[row]] = shiftedDiagonal_[row];
-  const SolveSettings settings{params.linearTolerance, params.linearMaxIterations, 30};
+  // A new factor for every step: the mass term changes the matrix from one step to the next.
+  LinearSolveSettings settings = params.linearSolve();
+  settings.refactorIterations = 0;
+  linear_.configure(settings);
   dx_.setZero(f.size());
-  SolveReport solved;
-  if (params.preconditioner == EquilibriumParams::Preconditioning::kCholesky) {
-    if (!cholesky_) cholesky_ = std::make_unique<CholeskyPreconditioner>(false);
-    if (!cholesky_->rebuildNow(A_)) return false;
-    solved = conjugateGradients(MatrixOperator(A_), f, dx_, *cholesky_, settings, krylov_);
-  } else {
-    if (!jacobi_.setDiagonal(shiftedDiagonal_) || !jacobi_.positive()) return false;
-    solved = conjugateGradients(MatrixOperator(A_), f, dx_, jacobi_, settings, krylov_);
-  }
+  const LinearSolveReport solved = linear_.solve(A_, f, dx_);
   report.linearIterations += solved.iterations;
-  return solved.outcome != SolveOutcome::kNonPositiveCurvature;
+  return !solved.refused && !solved.lostCurvature;
 }
 
 bool PseudoTimeRecovery::tryStep(const System& system, const EquilibriumParams& params,

@@ -6,13 +6,14 @@
 //
 // Newton-Raphson on the assembled stiffness: each iteration solves (-K) dx = f over the free
 // DOFs (K = df/dx; constrained rows and columns made identity, their right side zero) by
-// preconditioned conjugate gradients (solve/krylov.h) with the Jacobi or the sparse Cholesky
-// preconditioner of the implicit integrators. The Cholesky factor is kept across Newton
-// iterations and across solves (frames): CG on the current -K, preconditioned by the factor of
-// an earlier one, converges to the same linear tolerance, and a new factor is made only when
-// that CG needs more than refactorAbove iterations or does not give a descent direction (0:
-// a new factor every Newton iteration). When -K is not positive definite (CG meets
-// non-positive curvature, or Jacobi a non-positive diagonal, or the Cholesky factorisation is
+// preconditioned conjugate gradients with the Jacobi preconditioner, or a sparse Cholesky
+// factor or BoomerAMG hierarchy kept by the rule of solve/linear_solve.h
+// (LinearSolveRule::newtonDirections): kept across Newton iterations and across solves
+// (frames), CG on the current -K preconditioned by the factor of an earlier one converges to
+// the same linear tolerance, and a new factor is made (and the step solved again with it)
+// only when that CG needs more than refactorIterations iterations or does not give a descent
+// direction (0: a new factor every Newton iteration). When -K is not positive definite (CG
+// meets non-positive curvature, or Jacobi a non-positive diagonal, or the factorisation is
 // refused), the solve is repeated on -K + mu I with mu = shiftFraction * mean |diag(-K)|,
 // multiplied by 10 until CG succeeds (Levenberg-Marquardt); after maxShifts such tries the
 // step is the Jacobi-scaled force, f_i / |(-K)_ii| (a preconditioned gradient step). Whether
@@ -48,8 +49,8 @@
 #include <vector>
 
 #include "tissue_trainer/core/mesh/corrupt_elements.h"
-#include "tissue_trainer/core/solve/cholesky_preconditioner.h"
 #include "tissue_trainer/core/solve/krylov.h"
+#include "tissue_trainer/core/solve/linear_solve.h"
 #include "tissue_trainer/core/system.h"
 
 namespace tt {
@@ -60,13 +61,13 @@ struct EquilibriumParams {
   int maxNewtonIterations = 50;
   double linearTolerance = 1e-10;  // relative residual of each CG solve
   int linearMaxIterations = 2000;
-  enum class Preconditioning { kJacobi, kCholesky };
+  using Preconditioning = PreconditionerKind;
   Preconditioning preconditioner = Preconditioning::kJacobi;
   int maxLineSearchSteps = 30;  // halvings of a Newton step
   double armijo = 1e-4;         // c of the sufficient-decrease condition
-  // Cholesky: CG iterations above which the kept factor is replaced by one of the current
-  // matrix (0: a new factor every Newton iteration).
-  int refactorAbove = 20;
+  // Cholesky, AMG: CG iterations above which the kept factor is replaced by one of the
+  // current matrix (0: a new factor every Newton iteration).
+  int refactorIterations = 20;
   double shiftFraction = 1e-3;  // first mu of the shifted solve, of mean |diag(-K)|
   int maxShifts = 8;            // shifted tries before the gradient step
   // Pseudo-time steps per solve where elements are inverted or the line search fails (0:
@@ -74,6 +75,11 @@ struct EquilibriumParams {
   int maxPseudoTimeSteps = 200;
   // Mass term of the first pseudo-time step, of the mean stiffness diagonal (PseudoTimeRecovery).
   double pseudoTimeInitialRatio = 1e-3;
+
+  // The settings of the Newton steps' linear solve (PCG, factors made synchronously).
+  LinearSolveSettings linearSolve() const;
+  // Takes tolerance, iterations, preconditioner and refactorIterations of s.
+  void setLinearSolve(const LinearSolveSettings& s);
 };
 
 enum class EquilibriumStop {
@@ -159,7 +165,8 @@ class PseudoTimeRecovery {
   // -K at x with the constraints applied, and the mean |diagonal| over the free DOFs; false
   // when not finite.
   bool assemble(const System& system, const Eigen::VectorXd& x, double& meanDiagonal);
-  // dx_ from (M / tau - K) dx = f; false on non-positive curvature.
+  // dx_ from (M / tau - K) dx = f with a new factor of that matrix where the preconditioner
+  // is one; false on non-positive curvature or a refused factorisation.
   bool solveStep(const System& system, const EquilibriumParams& params, double tau,
                  const Eigen::VectorXd& f, EquilibriumReport& report);
   // One step of length tau from x: taken (x, f, residual moved, tau grown or shrunk by the
@@ -172,9 +179,7 @@ class PseudoTimeRecovery {
   std::vector<int> diagonal_;  // offsets of the diagonal entries in A_'s values
   Eigen::VectorXd weight_, stiffnessDiagonal_, shiftedDiagonal_, dx_, trial_, trialF_,
       zeroVelocity_;
-  JacobiPreconditioner jacobi_;
-  std::unique_ptr<CholeskyPreconditioner> cholesky_;
-  KrylovWorkspace krylov_;
+  LinearSolve linear_{{}, LinearSolveRule::newtonDirections()};
   CorruptElementCheck corruptCheck_;
   const Mesh* checkedMesh_ = nullptr;  // the mesh corruptCheck_ was built for
   int checkedElements_ = 0;            // and its number of tets and hexes then
@@ -203,13 +208,12 @@ class EquilibriumSolver {
   // not positive definite); false when the stiffness is not finite.
   bool newtonDirection(const System& system, const Eigen::VectorXd& x, EquilibriumReport& report);
   void scaledForceDirection();  // dx_ = f_ / |diag(A_)| (free DOFs)
-  // CG on A_ (with the current diagonal shift), at most maxIterations; false on non-positive
-  // curvature, or when it stops unconverged and `mustConverge`.
-  bool conjugateGradientSolve(const Preconditioner& M, EquilibriumReport& report,
-                              int maxIterations, bool mustConverge = false);
-  // dx_ by CG preconditioned with the kept Cholesky factor (within refactorAbove iterations, a
-  // descent direction) or else with a new one; false when -K cannot be factored.
-  bool choleskyDirection(EquilibriumReport& report);
+  // CG on A_ with its diagonal shift and preconditioner M (the shifted solves); false on
+  // non-positive curvature.
+  bool conjugateGradientSolve(const Preconditioner& M, EquilibriumReport& report);
+  // dx_ by the linear solve (Jacobi, or a kept or new factor); false where -K is not positive
+  // definite (non-positive curvature, or a refused factorisation).
+  bool unshiftedDirection(EquilibriumReport& report);
   // Backtracking along dx_ from x; false when no length was accepted.
   bool lineSearch(const System& system, Eigen::VectorXd& x, double& residual,
                   EquilibriumReport& report);
@@ -217,9 +221,8 @@ class EquilibriumSolver {
   SparseMatrix A_;
   std::vector<int> diagonal_;  // offsets of the diagonal entries in A_'s values
   Eigen::VectorXd f_, trialF_, dx_, trial_, diagonalValues_, zeroVelocity_;
-  JacobiPreconditioner jacobi_;
-  std::unique_ptr<CholeskyPreconditioner> cholesky_;
-  Eigen::Index factoredRows_ = -1;  // of the kept factor's matrix
+  LinearSolve linear_{{}, LinearSolveRule::newtonDirections()};
+  JacobiPreconditioner shiftedJacobi_;  // of the shifted solves
   double potential_ = 0.0;          // at the current x (with f_)
   KrylovWorkspace krylov_;
   bool hasEnergy_ = true;
