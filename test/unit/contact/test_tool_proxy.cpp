@@ -80,7 +80,7 @@ TEST(ToolProxy, AZeroStepHoldsItAndResetPlacesItAgain) {
 TEST(ToolProxy, RefusesBadInput) {
   EXPECT_THROW(ToolProxy(0.0), std::invalid_argument);
   EXPECT_THROW(ToolProxy(-1.0), std::invalid_argument);
-  EXPECT_THROW(ToolProxy(std::numeric_limits<double>::infinity()), std::invalid_argument);
+  EXPECT_THROW(ToolProxy{std::numeric_limits<double>::infinity()}, std::invalid_argument);
   ToolProxy proxy(0.1);
   proxy.follow(Eigen::Vector3d::Zero(), 0.01);
   EXPECT_THROW(proxy.follow(Eigen::Vector3d(std::nan(""), 0, 0), 0.01), std::invalid_argument);
