@@ -54,6 +54,21 @@ std::vector<std::array<int, N * N * 3>> blockOffsets(const SparseMatrix& pattern
   return offsets;
 }
 
+// values[offset of (3a+i, 3b) + j] += entry(3 la + i, 3 lb + j) for the local nodes la in
+// `rows` and every lb of an element with N nodes (offsets as blockOffsets gives them).
+template <int N, class Entry>
+void addElementBlocks(double* values, const std::array<int, N * N * 3>& offsets,
+                      std::uint8_t rows, const Entry& entry) {
+  for (int la = 0; la < N; ++la) {
+    if (!(rows & (1u << la))) continue;
+    for (int lb = 0; lb < N; ++lb)
+      for (int i = 0; i < 3; ++i) {
+        double* row = values + offsets[(la * N + lb) * 3 + i];
+        for (int j = 0; j < 3; ++j) row[j] += entry(3 * la + i, 3 * lb + j);
+      }
+  }
+}
+
 // The owner-computes split of a list of elements with N nodes (RowOwnership): per part, the
 // elements with a node of the part, in increasing order, and the rows of the part in each.
 template <int N, class Rows>
@@ -129,30 +144,14 @@ SparseMatrix SparsePattern::zeroMatrix() const {
 
 void SparsePattern::addTetBlock(SparseMatrix& K, int tet, const Matrix12d& Ke,
                                 TetRows rows) const {
-  double* values = K.valuePtr();
-  const std::array<int, 48>& offsets = tetOffsets_[tet];
-  for (int la = 0; la < 4; ++la) {
-    if (!(rows & (1u << la))) continue;
-    for (int lb = 0; lb < 4; ++lb)
-      for (int i = 0; i < 3; ++i) {
-        double* row = values + offsets[(la * 4 + lb) * 3 + i];
-        for (int j = 0; j < 3; ++j) row[j] += Ke(3 * la + i, 3 * lb + j);
-      }
-  }
+  addElementBlocks<4>(K.valuePtr(), tetOffsets_[tet], rows,
+                      [&](int r, int c) { return Ke(r, c); });
 }
 
 void SparsePattern::addHexBlock(SparseMatrix& K, int hex, const Matrix24d& Ke, double scale,
                                 HexRows rows) const {
-  double* values = K.valuePtr();
-  const std::array<int, 192>& offsets = hexOffsets_[hex];
-  for (int la = 0; la < 8; ++la) {
-    if (!(rows & (1u << la))) continue;
-    for (int lb = 0; lb < 8; ++lb)
-      for (int i = 0; i < 3; ++i) {
-        double* row = values + offsets[(la * 8 + lb) * 3 + i];
-        for (int j = 0; j < 3; ++j) row[j] += scale * Ke(3 * la + i, 3 * lb + j);
-      }
-  }
+  addElementBlocks<8>(K.valuePtr(), hexOffsets_[hex], rows,
+                      [&](int r, int c) { return scale * Ke(r, c); });
 }
 
 const RowOwnership& SparsePattern::rowOwnership(int parts) const {
