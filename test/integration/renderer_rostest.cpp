@@ -5,10 +5,10 @@
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 
-#include <sys/stat.h>
-
+#include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <filesystem>
 #include <mutex>
 
 #include <geometry_msgs/PoseStamped.h>
@@ -20,7 +20,23 @@
 
 namespace {
 
+namespace fs = std::filesystem;
+
+// The largest PNG frame in dir written at or after `since` (0 bytes when there is none).
+std::uintmax_t largestFrameSince(const fs::path& dir, fs::file_time_type since) {
+  std::uintmax_t largest = 0;
+  std::error_code ec;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind("frame_", 0) == 0 && e.path().extension() == ".png" &&
+        e.last_write_time(ec) >= since)
+      largest = std::max(largest, e.file_size(ec));
+  }
+  return largest;
+}
+
 TEST(Renderer, PublishesTheLiverAndTheInstrument) {
+  const fs::file_time_type started = fs::file_time_type::clock::now();
   ros::NodeHandle nh;
   std::mutex m;
   sensor_msgs::Image last;
@@ -95,9 +111,9 @@ TEST(Renderer, PublishesTheLiverAndTheInstrument) {
 
   std::string pngDir;
   ASSERT_TRUE(ros::param::get("/renderer/png_dir", pngDir));
-  struct stat st {};
-  EXPECT_EQ(::stat((pngDir + "/frame_000040.png").c_str(), &st), 0) << "no PNG frame in " << pngDir;
-  EXPECT_GT(st.st_size, 1000);
+  // Every 10th image is a PNG (png_every); how many images a loaded machine renders in the
+  // 2 s varies, so any frame of this run counts.
+  EXPECT_GT(largestFrameSince(pngDir, started), 1000u) << "no PNG frame of this run in " << pngDir;
 
   EXPECT_TRUE(tf.canTransform("world", "laparoscope", ros::Time(0), ros::Duration(2.0)));
 }
