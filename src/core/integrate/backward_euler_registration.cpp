@@ -3,6 +3,7 @@
 
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/registry/linear_solve_keys.h"
+#include "tissue_trainer/core/registry/newton_keys.h"
 #include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
@@ -71,7 +72,8 @@ void registerBackwardEuler(Registry& registry) {
   e.name = "backward_euler";
   e.description = "linearised implicit Euler (one Newton step), optionally full Newton";
   e.keys = {{"substeps", "equal substeps per frame (integer >= 1, default 1)"},
-            {"newton_iterations", "1: the linearised step (default); > 1: full Newton"},
+            {"max_newton_iterations", "Newton iterations per step (integer >= 1; 1: the "
+                                      "linearised step, the default; > 1: full Newton)"},
             {"newton_tolerance", "relative residual of the implicit equations (default 1e-6)"},
             {"require_convergence", "true: an unconverged Newton loop fails the frame"},
             {"warm_start", "start the linear solve from the previous solution (default true)"},
@@ -93,14 +95,16 @@ void registerBackwardEuler(Registry& registry) {
             {"fd_velocity_scale", "finite_difference: the same for velocities (m/s, default 1)"}};
   for (KeyDoc& key : linearSolveKeyDocs(BackwardEulerParams().linearSolve()))
     e.keys.push_back(std::move(key));
+  e.keys.push_back({"newton_iterations", "deprecated: max_newton_iterations, the same meaning"});
   e.make = [](const YamlEntry& spec, Notes& notes) -> std::unique_ptr<Integrator> {
     BackwardEulerParams p;
     p.substeps = spec.integerAtLeast("substeps", 1, p.substeps);
     p.setLinearSolve(readLinearSolveSettings(spec, p.linearSolve(), notes));
     readStepControl(spec, p);
     readJacobian(spec, p);
-    p.newtonIterations = spec.integerAtLeast("newton_iterations", 1, p.newtonIterations);
-    p.newtonTolerance = spec.positive("newton_tolerance", p.newtonTolerance);
+    p.newtonIterations =
+        readMaxNewtonIterations(spec, p.newtonIterations, notes, "newton_iterations");
+    p.newtonTolerance = readNewtonTolerance(spec, p.newtonTolerance, notes);
     p.requireConvergence = spec.boolean("require_convergence", p.requireConvergence);
     p.warmStart = spec.boolean("warm_start", p.warmStart);
     return std::make_unique<BackwardEulerIntegrator>(p);

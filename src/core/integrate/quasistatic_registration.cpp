@@ -1,6 +1,7 @@
 // Registers quasistatic in the scene registry.
 #include "tissue_trainer/core/integrate/quasistatic.h"
 #include "tissue_trainer/core/registry/linear_solve_keys.h"
+#include "tissue_trainer/core/registry/newton_keys.h"
 #include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
@@ -26,10 +27,10 @@ void registerQuasistatic(Registry& registry) {
   IntegratorEntry e;
   e.name = "quasistatic";
   e.description = "equilibrium at each frame's end (Newton-Raphson, PCG, line search)";
-  e.keys = {{"abs_tolerance", "converged when |f| over the free DOFs is at most this (N, default "
-                              "1e-9) ..."},
-            {"rel_tolerance", "... or at most this fraction of |f| at the frame's start "
-                              "(default 1e-9)"},
+  e.keys = {{"newton_abs_tolerance", "converged when |f| over the free DOFs is at most this "
+                                     "(N, default 1e-9) ..."},
+            {"newton_tolerance", "... or at most this fraction of |f| at the frame's start "
+                                 "(default 1e-9)"},
             {"max_newton_iterations", "Newton iterations per frame (integer >= 1, default 50)"},
             {"max_line_search", "halvings of a Newton step before it is given up (integer >= 0, "
                                 "default 30)"},
@@ -43,11 +44,14 @@ void registerQuasistatic(Registry& registry) {
     e.keys.push_back(std::move(key));
   }
   e.keys.push_back({"refactor_above", "deprecated: refactor_iterations, the same meaning"});
+  e.keys.push_back({"abs_tolerance", "deprecated: newton_abs_tolerance, the same meaning"});
+  e.keys.push_back({"rel_tolerance", "deprecated: newton_tolerance, the same meaning"});
   e.make = [](const YamlEntry& spec, Notes& notes) -> std::unique_ptr<Integrator> {
     EquilibriumParams p;
-    p.absoluteTolerance = spec.positive("abs_tolerance", p.absoluteTolerance);
-    p.relativeTolerance = spec.positive("rel_tolerance", p.relativeTolerance);
-    p.maxNewtonIterations = spec.integerAtLeast("max_newton_iterations", 1, p.maxNewtonIterations);
+    p.absoluteTolerance =
+        readNewtonAbsTolerance(spec, p.absoluteTolerance, notes, "abs_tolerance");
+    p.relativeTolerance = readNewtonTolerance(spec, p.relativeTolerance, notes, "rel_tolerance");
+    p.maxNewtonIterations = readMaxNewtonIterations(spec, p.maxNewtonIterations, notes);
     const LinearSolveSettings linear = readLinearSolveSettings(spec, p.linearSolve(), notes);
     refuseWhatNewtonCannotUse(spec, linear);
     p.setLinearSolve(linear);

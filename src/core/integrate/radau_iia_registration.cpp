@@ -1,5 +1,6 @@
 // Registers radau_iia in the scene registry.
 #include "tissue_trainer/core/integrate/radau_iia.h"
+#include "tissue_trainer/core/registry/newton_keys.h"
 #include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
@@ -14,8 +15,8 @@ void registerRadauIIA(Registry& registry) {
             {"adaptive", "false: fixed steps of initial_step (default true)"},
             {"initial_step", "first (or fixed) step (s, default 1e-3)"},
             {"max_step", "longest step (s)"},
-            {"max_newton_iterations", "Newton iterations per step (default 7)"}};
-  e.make = [](const YamlEntry& spec, Notes&) -> std::unique_ptr<Integrator> {
+            {"max_newton_iterations", "Newton iterations per step (integer >= 1, default 7)"}};
+  e.make = [](const YamlEntry& spec, Notes& notes) -> std::unique_ptr<Integrator> {
     RadauOptions o;
     if (spec.has("jacobian")) {
       const std::string j = spec["jacobian"].choice({"analytical", "numerical", "simplified"});
@@ -27,7 +28,7 @@ void registerRadauIIA(Registry& registry) {
     o.adaptive = spec.boolean("adaptive", o.adaptive);
     o.initialStep = spec.positive("initial_step", o.initialStep);
     o.maxStep = spec.positive("max_step", o.maxStep);
-    o.maxNewtonIterations = spec.integerAtLeast("max_newton_iterations", 1, o.maxNewtonIterations);
+    o.maxNewtonIterations = readMaxNewtonIterations(spec, o.maxNewtonIterations, notes);
     return std::make_unique<RadauIIA>(o);
   };
   registry.add(std::move(e));

@@ -36,16 +36,8 @@ void readPreconditioner(const YamlEntry& spec, LinearSolveSettings& s) {
 }
 
 void readRefactorIterations(const YamlEntry& spec, LinearSolveSettings& s, Notes& notes) {
-  if (spec.has("refactor_above")) {
-    const YamlEntry old = spec["refactor_above"];
-    if (spec.has("refactor_iterations"))
-      old.fail("is the deprecated name of refactor_iterations; give refactor_iterations only");
-    s.refactorIterations = old.integerAtLeast(0);
-    notes.push_back(old.where() + ": " + old.path() +
-                    " is deprecated: write refactor_iterations (the same meaning)");
-    return;
-  }
-  s.refactorIterations = spec.integerAtLeast("refactor_iterations", 0, s.refactorIterations);
+  if (const auto entry = renamedKey(spec, "refactor_iterations", "refactor_above", notes))
+    s.refactorIterations = entry->integerAtLeast(0);
 }
 
 }  // namespace

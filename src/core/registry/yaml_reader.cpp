@@ -145,6 +145,21 @@ bool YamlEntry::boolean(const char* key, bool fallback) const {
   return has(key) ? (*this)[key].boolean() : fallback;
 }
 
+std::optional<YamlEntry> renamedKey(const YamlEntry& spec, const char* name, const char* oldName,
+                                    std::vector<std::string>& notes) {
+  const std::string newName = name;
+  if (oldName && spec.has(oldName)) {
+    const YamlEntry old = spec[oldName];
+    if (spec.has(name))
+      old.fail("is the deprecated name of " + newName + "; give " + newName + " only");
+    notes.push_back(old.where() + ": " + old.path() + " is deprecated: write " + newName +
+                    " (the same meaning)");
+    return old;
+  }
+  if (spec.has(name)) return spec[name];
+  return std::nullopt;
+}
+
 double stressUnit(const YamlEntry& unit) {
   const std::string name = unit.choice({"Pa", "kPa", "MPa"});
   return name == "Pa" ? 1.0 : name == "kPa" ? 1e3 : 1e6;

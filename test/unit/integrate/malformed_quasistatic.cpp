@@ -21,8 +21,8 @@ force_models:
   - {type: hyperelastic, law: neo_hookean}
 integrator:
   type: quasistatic
-  abs_tolerance: 1e-8
-  rel_tolerance: 1e-10
+  newton_abs_tolerance: 1e-8
+  newton_tolerance: 1e-10
   max_newton_iterations: 20
   linear_tolerance: 1e-9
   linear_max_iterations: 300
@@ -55,10 +55,11 @@ TEST(QuasistaticScene, KeysReachTheSolver) {
 TEST(QuasistaticScene, EachMalformedKeyNamesFileLineAndKey) {
   const std::string s = kScene;
   const std::vector<testutil::BadScene> cases = {
-      {"negative tolerance", replaced(s, "abs_tolerance: 1e-8", "abs_tolerance: -1"), 9,
-       "integrator.abs_tolerance"},
-      {"zero relative tolerance", replaced(s, "rel_tolerance: 1e-10", "rel_tolerance: 0"), 10,
-       "integrator.rel_tolerance"},
+      {"negative tolerance",
+       replaced(s, "newton_abs_tolerance: 1e-8", "newton_abs_tolerance: -1"), 9,
+       "integrator.newton_abs_tolerance"},
+      {"zero relative tolerance", replaced(s, "newton_tolerance: 1e-10", "newton_tolerance: 0"),
+       10, "integrator.newton_tolerance"},
       {"fractional iterations", replaced(s, "max_newton_iterations: 20", "max_newton_iterations: 2.5"),
        11, "integrator.max_newton_iterations"},
       {"zero iterations", replaced(s, "max_newton_iterations: 20", "max_newton_iterations: 0"), 11,
@@ -82,8 +83,8 @@ TEST(QuasistaticScene, EachMalformedKeyNamesFileLineAndKey) {
       {"misspelt pseudo-time key",
        replaced(s, "max_pseudo_time_steps: 40", "max_pseudotime_steps: 40"), 17,
        "max_pseudotime_steps"},
-      {"misspelt key", replaced(s, "abs_tolerance: 1e-8", "abs_tolerence: 1e-8"), 9,
-       "abs_tolerence"},
+      {"misspelt key", replaced(s, "newton_abs_tolerance: 1e-8", "newton_abs_tolerence: 1e-8"), 9,
+       "newton_abs_tolerence"},
       {"a key of another integrator", replaced(s, "max_line_search: 12", "substeps: 2"), 14,
        "substeps"},
   };

@@ -529,7 +529,7 @@ TEST(BackwardEuler, FullNewtonSolvesTheNonlinearImplicitEquations) {
     const StepReport r = integrator.advance(s, h);
     EXPECT_TRUE(r.ok);
     EXPECT_EQ(integrator.diagnostics().unconvergedNewton, 0);
-    std::printf("[ newton   ] newton_iterations %d: used %d, jacobians %d, error %.3e\n", newton,
+    std::printf("[ newton   ] max_newton_iterations %d: used %d, jacobians %d, error %.3e\n", newton,
                 r.newtonIterations, r.jacobians, (s.state.x - restVector(s) - u).norm());
     return (s.state.x - restVector(s) - u).norm();
   };

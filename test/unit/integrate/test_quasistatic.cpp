@@ -278,7 +278,7 @@ materials:
   - {young_modulus: 10, poisson_ratio: 0.4, stress_unit: kPa}
 force_models:
   - {type: hyperelastic, law: neo_hookean}
-integrator: {type: quasistatic, abs_tolerance: 1e-10}
+integrator: {type: quasistatic, newton_abs_tolerance: 1e-10}
 boundary:
   fixed:
     - plane: {point: [0, 0, 0], normal: [0, 0, 1]}

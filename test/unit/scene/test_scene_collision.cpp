@@ -24,7 +24,7 @@ force_models:
     stiffness: 1000
     bodies:
       - plane: {point: [0, 0, -0.001], normal: [0, 0, 1]}
-integrator: {type: quasistatic, abs_tolerance: 1e-10}
+integrator: {type: quasistatic, newton_abs_tolerance: 1e-10}
 boundary:
   controlled:
     - plane: {point: [0, 0, 0.01], normal: [0, 0, 1]}

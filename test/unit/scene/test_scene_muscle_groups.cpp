@@ -32,7 +32,7 @@ force_models:
       - name: upper
         region: {box: {min: [-1, -1, 0.005], max: [1, 1, 1]}}
         fibres: {direction: [0, 1, 0]}
-integrator: {type: quasistatic, abs_tolerance: 1e-10}
+integrator: {type: quasistatic, newton_abs_tolerance: 1e-10}
 boundary:
   fixed:
     - {box: {min: [-0.001, -0.001, -0.001], max: [0.001, 0.001, 0.001]}}

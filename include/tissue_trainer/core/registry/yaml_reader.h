@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <initializer_list>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -57,6 +58,13 @@ class YamlEntry {
   std::string path_;
   const std::string* file_;
 };
+
+// The entry of the optional key `name` of `spec`, formerly called `oldName` (nullptr: never
+// renamed): spec[name] when given; else spec[oldName], adding to `notes` the line
+// "FILE:LINE: PATH is deprecated: write NAME (the same meaning)"; else nothing. Both names given
+// is an InputError naming both.
+std::optional<YamlEntry> renamedKey(const YamlEntry& spec, const char* name, const char* oldName,
+                                    std::vector<std::string>& notes);
 
 // The factor of a `stress_unit` value: Pa, kPa or MPa.
 double stressUnit(const YamlEntry& unit);
