@@ -14,6 +14,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from report_files import save_figure  # noqa: E402
 
 AXIS_COLOUR = {"fibre": "tab:red", "sheet": "tab:green", "normal": "tab:blue"}
 
@@ -41,7 +42,7 @@ def positive(xs, ys):
 
 def finish(fig, path):
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
     print(f"wrote {path}")
 

@@ -17,6 +17,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from report_files import save_figure  # noqa: E402
 
 COLOURS = ["black", "red", "green", "blue", "magenta", "orange", "cyan"]
 
@@ -28,7 +29,7 @@ def read_csv(path):
 
 def save(fig, path):
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
 
 

@@ -20,6 +20,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from report_files import save_figure  # noqa: E402
 
 
 def read(path, key_columns):
@@ -61,7 +62,7 @@ def twitch_plot(directory):
     fig.suptitle("muscle_twitch, backward Euler with the iteration-count control (GMRES)")
     fig.tight_layout()
     out = os.path.join(directory, "iteration_control.png")
-    fig.savefig(out, dpi=110)
+    save_figure(fig, out, dpi=110)
     print("wrote", out)
 
 
@@ -82,7 +83,7 @@ def instability_plot(directory):
     axes[-1][0].set_xlabel("t (s)")
     fig.tight_layout()
     out = os.path.join(directory, "iteration_instability.png")
-    fig.savefig(out, dpi=110)
+    save_figure(fig, out, dpi=110)
     print("wrote", out)
 
 

@@ -24,6 +24,7 @@ from machine import machine_text
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from report_files import save_figure, write_text  # noqa: E402
 
 WORK_COLUMNS = ["problem", "model", "integrator", "parameter", "error", "cpu_seconds",
                 "wall_seconds", "steps", "rejected_steps", "newton_iterations",
@@ -268,7 +269,7 @@ def plot_problem(problem, runs, out_dir, bullet=()):
                fontsize=8)
     fig.tight_layout(rect=(0, 0.1, 1, 0.95))
     path = os.path.join(out_dir, f"{problem}.png")
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
     return os.path.basename(path)
 
@@ -290,7 +291,7 @@ def finish_loglog(fig, ax, xlabel, ylabel, title, path, legend_size):
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=legend_size)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
 
 
@@ -668,8 +669,7 @@ def main():
         lines += scaling_section(d)
     lines += stability_section(d)
 
-    with open(os.path.join(d, "README.md"), "w") as f:
-        f.write("\n".join(lines) + "\n")
+    write_text(os.path.join(d, "README.md"), "\n".join(lines) + "\n")
     print(f"plot.py: wrote {d}/README.md and {len(by_problem)} problem plots")
 
 

@@ -21,6 +21,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.colors import ListedColormap  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
+from report_files import save_figure, write_text  # noqa: E402
 
 OUTCOMES = ["stable", "recovered", "failed"]
 COLOURS = ["#4daf4a", "#ffbf00", "#e41a1c"]
@@ -82,7 +83,7 @@ def draw_map(rows, integrator, model, critical, out_dir):
     fig.suptitle(f"{integrator} + {model}", fontsize=10)
     fig.tight_layout(rect=(0, 0.1, 1, 0.95))
     name = f"stability_{integrator}_{model}.png"
-    fig.savefig(os.path.join(out_dir, name), dpi=90)
+    save_figure(fig, os.path.join(out_dir, name), dpi=90)
     plt.close(fig)
     return name
 
@@ -107,7 +108,7 @@ def draw_critical(critical, out_dir):
     ax.legend(fontsize=6)
     ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
-    fig.savefig(os.path.join(out_dir, "critical_step.png"), dpi=90)
+    save_figure(fig, os.path.join(out_dir, "critical_step.png"), dpi=90)
     plt.close(fig)
 
 
@@ -188,8 +189,7 @@ def main():
     maps = [draw_map(g, i, m, critical, d) for (i, m), g in sorted(groups.items())]
     if critical:
         draw_critical(critical, d)
-    with open(os.path.join(d, "stability.md"), "w") as f:
-        f.write(summary(rows, critical, extremes, maps))
+    write_text(os.path.join(d, "stability.md"), summary(rows, critical, extremes, maps))
     plot = ", critical_step.png" if critical else ""
     print(f"wrote {len(maps)} maps{plot} and stability.md in {d}")
 

@@ -52,6 +52,7 @@
 #include <vector>
 
 #include "common/bench_support.h"
+#include "common/command_line.h"
 #include "bullet_deformable.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/parallel.h"
@@ -285,26 +286,18 @@ void report(const std::vector<Run>& runs, const Start& start, int tets, const Op
 }
 
 Options parseOptions(int argc, char** argv) {
+  tools::CommandLine options(argc, argv,
+                             "bench_bullet_liver [--tetgen SWITCHES|none] [--steps N] [--out DIR] "
+                             "[--work DIR] [--no-load]");
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool hasValue = i + 1 < argc;
-    if (arg == "--tetgen" && hasValue) o.tetgen = argv[++i];
-    else if (arg == "--steps" && hasValue) o.steps = bench::positiveInteger("bench_bullet_liver", arg, argv[++i]);
-    else if (arg == "--out" && hasValue) o.out = argv[++i];
-    else if (arg == "--work" && hasValue) o.work = argv[++i];
-    else if (arg == "--no-load") o.noLoad = true;
-    else {
-      std::fprintf(stderr, "usage: bench_bullet_liver [--tetgen SWITCHES|none] [--steps N] "
-                           "[--out DIR] [--work DIR] [--no-load]\n");
-      std::exit(2);
-    }
-  }
-  if (o.tetgen.find_first_of("'/ ") != std::string::npos) {
-    std::fprintf(stderr, "bench_bullet_liver: --tetgen expects TetGen switches such as q1.4a0.1, "
-                         "got '%s'\n", o.tetgen.c_str());
-    std::exit(2);
-  }
+  o.tetgen = options.text("--tetgen", o.tetgen);
+  o.steps = options.positiveInteger("--steps", o.steps);
+  o.out = options.text("--out", o.out);
+  o.work = options.text("--work", o.work);
+  o.noLoad = options.flag("--no-load");
+  options.finish();
+  if (o.tetgen.empty() || o.tetgen.find_first_of("'/ ") != std::string::npos)
+    options.fail("--tetgen expects TetGen switches such as q1.4a0.1, got '" + o.tetgen + "'");
   return o;
 }
 

@@ -64,6 +64,7 @@
 #include <vector>
 
 #include "common/bench_support.h"
+#include "common/command_line.h"
 #include "bullet_deformable.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/parallel.h"
@@ -205,27 +206,17 @@ void writeRow(FILE* csv, const Row& row) {
 }
 
 Options parseOptions(int argc, char** argv) {
+  tools::CommandLine options(argc, argv,
+                             "bench_bullet_peer [--quick] [--out DIR] [--pair MODEL] "
+                             "[--problems a,b] [--time-limit S] [--bullet-newton N]");
   Options o;
-  bool timeLimitGiven = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool hasValue = i + 1 < argc;
-    if (arg == "--quick") o.quick = true;
-    else if (arg == "--out" && hasValue) o.out = argv[++i];
-    else if (arg == "--pair" && hasValue) o.pair = argv[++i];
-    else if (arg == "--problems" && hasValue) o.problems = bench::splitList(argv[++i]);
-    else if (arg == "--time-limit" && hasValue) {
-      o.timeLimit = bench::positiveNumber("bench_bullet_peer", arg, argv[++i]);
-      timeLimitGiven = true;
-    }
-    else if (arg == "--bullet-newton" && hasValue) o.bulletNewton = bench::positiveInteger("bench_bullet_peer", arg, argv[++i]);
-    else {
-      std::fprintf(stderr, "usage: bench_bullet_peer [--quick] [--out DIR] [--pair MODEL] "
-                           "[--problems a,b] [--time-limit S] [--bullet-newton N]\n");
-      std::exit(2);
-    }
-  }
-  if (o.quick && !timeLimitGiven) o.timeLimit = 5.0;
+  o.quick = options.flag("--quick");
+  o.out = options.text("--out", o.out);
+  o.pair = options.text("--pair", o.pair);
+  o.problems = options.list("--problems", {});
+  o.timeLimit = options.positiveNumber("--time-limit", o.quick ? 5.0 : o.timeLimit);
+  o.bulletNewton = options.positiveInteger("--bullet-newton", o.bulletNewton);
+  options.finish();
   bench::requireKnown("bench_bullet_peer", "--pair model", {o.pair}, bench::elasticModelNames());
   return o;
 }

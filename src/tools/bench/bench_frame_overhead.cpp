@@ -40,6 +40,7 @@
 #include <string>
 #include <vector>
 
+#include "common/command_line.h"
 #include "liver_bench_scene.h"
 #include "tissue_trainer/core/error.h"
 #include "tissue_trainer/core/mesh/corrupt_elements.h"
@@ -67,14 +68,6 @@ constexpr double kDamageStrain = 0.3;  // the node's ~damage_strain
   std::exit(2);
 }
 
-int positiveInteger(const std::string& option, const std::string& text) {
-  char* end = nullptr;
-  const long v = std::strtol(text.c_str(), &end, 10);
-  if (end == text.c_str() || *end != '\0' || v < 1 || v > 10000000)
-    badInput(option + " expects a positive integer, got '" + text + "'");
-  return static_cast<int>(v);
-}
-
 struct Options {
   bool quick = false;
   std::vector<int> sizes = {596, 5000, 10000, 50000, 100000};
@@ -83,33 +76,25 @@ struct Options {
 };
 
 Options parseOptions(int argc, char** argv) {
+  tools::CommandLine options(argc, argv,
+                             "bench_frame_overhead [--quick] [--sizes 600,5000,...] [--frames N] "
+                             "[--csv FILE]");
   Options o;
-  bool sizesGiven = false, framesGiven = false;
-  for (int k = 1; k < argc; ++k) {
-    const std::string arg = argv[k];
-    auto value = [&]() -> std::string {
-      if (k + 1 >= argc) badInput(arg + " expects a value");
-      return argv[++k];
-    };
-    if (arg == "--quick") {
-      o.quick = true;
-    } else if (arg == "--sizes") {
-      o.sizes.clear();
-      std::stringstream list(value());
-      for (std::string item; std::getline(list, item, ',');) o.sizes.push_back(positiveInteger("--sizes", item));
-      sizesGiven = true;
-    } else if (arg == "--frames") {
-      o.frames = positiveInteger(arg, value());
-      framesGiven = true;
-    } else if (arg == "--csv") {
-      o.csv = value();
-    } else {
-      badInput("unknown argument '" + arg + "': expected --quick, --sizes 600,5000,..., --frames N or --csv FILE");
-    }
+  o.quick = options.flag("--quick");
+  const std::vector<std::string> sizes = options.list("--sizes", {});
+  o.frames = options.positiveInteger("--frames", o.quick ? 5 : o.frames);
+  o.csv = options.text("--csv", "");
+  options.finish();
+  if (o.quick) o.sizes = {596, 5000, 10000};
+  if (!sizes.empty()) o.sizes.clear();
+  for (const std::string& item : sizes) {
+    char* end = nullptr;
+    const long n = std::strtol(item.c_str(), &end, 10);
+    if (*end != '\0' || n < 1 || n > 10000000)
+      options.fail("--sizes expects positive whole numbers, got '" + item + "'");
+    o.sizes.push_back(static_cast<int>(n));
   }
-  if (o.quick && !sizesGiven) o.sizes = {596, 5000, 10000};
-  if (o.quick && !framesGiven) o.frames = 5;
-  if (o.sizes.size() < 2) badInput("--sizes expects at least two sizes (the verdict compares them)");
+  if (o.sizes.size() < 2) options.fail("--sizes expects at least two sizes (the verdict compares them)");
   std::sort(o.sizes.begin(), o.sizes.end());
   return o;
 }

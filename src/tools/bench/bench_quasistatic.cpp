@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "common/bench_support.h"
+#include "common/command_line.h"
 #include "tissue_trainer/core/fit/landmark_fit.h"
 #include "tissue_trainer/core/integrate/quasistatic.h"
 #include "tissue_trainer/core/integrate/stability_guard.h"
@@ -262,34 +263,19 @@ std::string fitRow(bool jawAndCranium, int updates) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool quick = false, threadsGiven = false;
-  std::string out = std::string(TT_SOURCE_ROOT) + "/docs/report/muscles";
-  int updates = 6;
-  std::vector<std::string> cases;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--quick") {
-      quick = true;
-    } else if (arg == "--out" && i + 1 < argc) {
-      out = argv[++i];
-    } else if (arg == "--threads" && i + 1 < argc) {
-      tt::setThreadCount(tt::bench::positiveInteger(kTool, arg, argv[++i]));
-      threadsGiven = true;
-    } else if (arg == "--updates" && i + 1 < argc) {
-      updates = tt::bench::positiveInteger(kTool, arg, argv[++i]);
-    } else if (arg == "--cases" && i + 1 < argc) {
-      cases = tt::bench::splitList(argv[++i]);
-    } else {
-      std::fprintf(stderr,
-                   "usage: %s [--quick] [--out DIR] [--threads N] [--updates N] "
-                   "[--cases tongue,block,fit]\n",
-                   kTool);
-      return 2;
-    }
-  }
+  tt::tools::CommandLine options(argc, argv,
+                                 "bench_quasistatic [--quick] [--out DIR] [--threads N] "
+                                 "[--updates N] [--cases tongue,block,fit]");
+  const bool quick = options.flag("--quick");
+  const std::string out =
+      options.text("--out", std::string(TT_SOURCE_ROOT) + "/docs/report/muscles");
+  const int threads = options.positiveInteger("--threads", 0);  // 0: not given
+  const int updates = options.positiveInteger("--updates", quick ? 2 : 6);
+  const std::vector<std::string> cases = options.list("--cases", {});
+  options.finish();
   tt::bench::requireKnown(kTool, "case", cases, {"tongue", "block", "fit"});
-  if (quick) updates = 2;
-  if (tt::threadCount() == 1 && !threadsGiven) tt::setThreadCount(tt::hardwareThreads());
+  if (threads > 0) tt::setThreadCount(threads);
+  else if (tt::threadCount() == 1) tt::setThreadCount(tt::hardwareThreads());
   std::system(("mkdir -p '" + out + "'").c_str());
   const std::string csvPath = out + "/quasistatic.csv";
   std::FILE* csv = std::fopen(csvPath.c_str(), "w");

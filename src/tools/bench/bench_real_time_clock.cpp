@@ -17,10 +17,13 @@
 // site's surface point). The real-time runs are compared with the reference at the same device time
 // (linear interpolation between its 10 ms frames): what the trainee sees and feels at a moment
 // against what the fast machine would give then.
-//   bench_real_time_clock MESH|- [MAX_FRAME_TIME=0.1] [TOOL_MAX_SPEED=0.1] [CSV|-] [SECONDS]
-// MESH: a liver mesh in liver.msh's coordinates (e.g. a TetGen refinement, docs/real_time.md);
-// "-": liver.msh itself. CSV: every frame of the three runs. SECONDS: play only the script's
-// first SECONDS (default all of it, and 1 s of its last pose).
+//   bench_real_time_clock [--quick] [--mesh FILE] [--max-frame-time S] [--tool-max-speed M_PER_S]
+//                         [--csv FILE] [--seconds S]
+// --mesh: a liver mesh in liver.msh's coordinates (e.g. a TetGen refinement, docs/real_time.md;
+// default liver.msh itself). --max-frame-time (default 0.1 s) and --tool-max-speed (default
+// 0.1 m/s): the node's max_frame_time and the ToolProxy's speed limit. --csv: every frame of the
+// three runs. --seconds: play only the script's first S (default all of it, and 1 s of its last
+// pose; --quick: the first 5.5 s).
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
@@ -32,6 +35,7 @@
 #include <thread>
 #include <vector>
 
+#include "common/command_line.h"
 #include "liver_bench_scene.h"
 #include "tissue_trainer/core/contact/tissue_contact.h"
 #include "tissue_trainer/core/contact/tool_proxy.h"
@@ -51,6 +55,7 @@ constexpr double kToolRadius = 0.006;  // m, as bench_implicit_step's sphere
 constexpr double kJawLength = 0.018;   // m, the closed jaws beyond the tip (grasper.urdf)
 const Eigen::Vector3d kTrocar(-0.035, 0.075, 0.20);  // the task's trocar (liver_palpation.yaml)
 constexpr double kTail = 1.0;          // s of the script's last pose after its end
+constexpr double kQuickSeconds = 5.5;  // --quick: the first palpation
 
 double now() { return std::chrono::duration<double>(Clock::now().time_since_epoch()).count(); }
 
@@ -190,18 +195,22 @@ void report(const char* name, const Run& run, const Run* reference) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 2) {
-    std::fprintf(stderr, "usage: bench_real_time_clock MESH|- [MAX_FRAME_TIME=0.1] [TOOL_MAX_SPEED=0.1] [CSV|-] [SECONDS]\n");
-    return 2;
-  }
+  tools::CommandLine options(argc, argv,
+                             "bench_real_time_clock [--quick] [--mesh FILE] [--max-frame-time S] "
+                             "[--tool-max-speed M_PER_S] [--csv FILE] [--seconds S]");
+  const bool quick = options.flag("--quick");
+  const std::string mesh =
+      options.text("--mesh", bench::sourceDir() + "/config/meshes/liver.msh");
+  const double maxFrame = options.positiveNumber("--max-frame-time", 0.1);
+  const double maxSpeed = options.positiveNumber("--tool-max-speed", 0.1);
+  const std::string csvPath = options.text("--csv", "");
+  const double seconds = options.positiveNumber("--seconds", quick ? kQuickSeconds : 0.0);
+  options.finish();
   try {
-    const std::string mesh = std::string(argv[1]) == "-" ? bench::sourceDir() + "/config/meshes/liver.msh" : argv[1];
-    const double maxFrame = argc > 2 ? std::stod(argv[2]) : 0.1;
-    const double maxSpeed = argc > 3 ? std::stod(argv[3]) : 0.1;
     setThreadCount(1);
     const std::string scenePath = writeScene(mesh);
     const TaskScript task = TaskScript::load(bench::sourceDir() + "/config/tasks/liver_palpation.yaml");
-    const double end = argc > 5 ? std::stod(argv[5]) : task.duration() + kTail;
+    const double end = seconds > 0.0 ? seconds : task.duration() + kTail;
     std::printf("bench_real_time_clock: %s (%d tets), task %s (the first %.1f s), 6 mm sphere, frames of %.0f ms, "
                 "max_frame_time %.3f s, tool_max_speed %.3f m/s, 1 thread\n",
                 mesh.c_str(), loadScene(scenePath).system.mesh.numTets(), task.name().c_str(), end,
@@ -212,8 +221,8 @@ int main(int argc, char** argv) {
     report("real_time", realTime, &reference);
     const Run fixed = play(Mode::kFixed, scenePath, task, end, maxFrame, maxSpeed);
     report("fixed_10ms", fixed, &reference);
-    if (argc > 4 && std::string(argv[4]) != "-") {
-      std::ofstream csv(argv[4]);
+    if (!csvPath.empty()) {
+      std::ofstream csv(csvPath);
       csv << "run,device_time,simulated_time,step,frame_wall,contact_force,probe_x,probe_y,probe_z\n";
       for (Mode m : {Mode::kReference, Mode::kRealTime, Mode::kFixed}) {
         const Run& r = m == Mode::kReference ? reference : m == Mode::kRealTime ? realTime : fixed;

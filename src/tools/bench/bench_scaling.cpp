@@ -3,7 +3,7 @@
 // gravity, bottom fixed; PCG to 1e-6 with each preconditioner: the model column says which)
 // of the edge_length fast model, on box grids of 6 tets per cell from about 1e3 to 1e5 tets.
 // One thread; medians of repeats; the fitted log-log slope of time against tets per quantity. Writes DIR/scaling.csv and DIR/scaling_fits.csv.
-//   bench_scaling [--quick] [--out DIR]
+//   bench_scaling [--quick] [--repeats N] [--out DIR]
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "common/bench_support.h"
+#include "common/command_line.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/integrate/newtonian.h"
 #include "tissue_trainer/core/mesh/generators.h"
@@ -183,21 +184,14 @@ void writeFits(const std::string& dir, const std::vector<Sample>& samples) {
 
 int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
-  bool quick = false;
-  std::string out = "docs/report";
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--quick") quick = true;
-    else if (arg == "--out" && i + 1 < argc) out = argv[++i];
-    else {
-      std::fprintf(stderr, "usage: bench_scaling [--quick] [--out DIR]\n");
-      return 2;
-    }
-  }
+  tools::CommandLine options(argc, argv, "bench_scaling [--quick] [--repeats N] [--out DIR]");
+  const bool quick = options.flag("--quick");
+  const int repeats = options.positiveInteger("--repeats", quick ? 3 : 7);
+  const std::string out = options.text("--out", "docs/report");
+  options.finish();
   setThreadCount(1);
   std::filesystem::create_directories(out);
   const std::vector<int> cells = quick ? std::vector<int>{5, 7} : std::vector<int>{6, 9, 13, 19, 26};
-  const int repeats = quick ? 3 : 7;
   std::vector<Sample> samples;
   for (int c : cells) measureSize(c, repeats, samples);
   writeCsv(out, samples);

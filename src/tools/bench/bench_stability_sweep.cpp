@@ -55,6 +55,7 @@
 
 #include "common/adamss_bench_models.h"
 #include "common/bench_support.h"
+#include "common/command_line.h"
 #include "muscle_bench_models.h"
 #include "tissue_trainer/core/integrate/abm3.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
@@ -609,30 +610,21 @@ void sweepExtremes(bool quick, const std::string& path,
 }  // namespace tt
 
 int main(int argc, char** argv) {
-  bool quick = false, gridOnly = false, extremesOnly = false;
-  std::string out = ".";
-  std::vector<std::string> integrators, models, cases;  // empty: those of the grid
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    const bool hasValue = i + 1 < argc;
-    if (a == "--quick") quick = true;
-    else if (a == "--grid-only") gridOnly = true;
-    else if (a == "--extremes-only") extremesOnly = true;
-    else if (a == "--out" && hasValue) out = argv[++i];
-    else if (a == "--integrators" && hasValue) integrators = tt::bench::splitList(argv[++i]);
-    else if (a == "--models" && hasValue) models = tt::bench::splitList(argv[++i]);
-    else if (a == "--cases" && hasValue) cases = tt::bench::splitList(argv[++i]);
-    else {
-      std::fprintf(stderr, "usage: bench_stability_sweep [--quick] [--out DIR] "
-                           "[--integrators a,b] [--models a,b] [--grid-only | --extremes-only "
-                           "[--cases a,b]]\n");
-      return 2;
-    }
-  }
-  if (!cases.empty() && !extremesOnly) {
-    std::fprintf(stderr, "bench_stability_sweep: --cases needs --extremes-only\n");
-    return 2;
-  }
+  tt::tools::CommandLine options(argc, argv,
+                                 "bench_stability_sweep [--quick] [--out DIR] [--integrators a,b] "
+                                 "[--models a,b] [--grid-only | --extremes-only [--cases a,b]]");
+  const bool quick = options.flag("--quick");
+  const bool gridOnly = options.flag("--grid-only");
+  const bool extremesOnly = options.flag("--extremes-only");
+  const std::string out = options.text("--out", ".");
+  // empty: those of the grid
+  const std::vector<std::string> integrators = options.list("--integrators", {});
+  const std::vector<std::string> models = options.list("--models", {});
+  const std::vector<std::string> cases = options.list("--cases", {});
+  options.finish();
+  if (gridOnly && extremesOnly)
+    options.fail("--grid-only and --extremes-only exclude each other, expected one of them");
+  if (!cases.empty() && !extremesOnly) options.fail("--cases expects --extremes-only beside it");
   std::error_code error;
   std::filesystem::create_directories(out, error);
   if (error) {
@@ -642,10 +634,6 @@ int main(int argc, char** argv) {
   }
   const double wall0 = tt::bench::wallSeconds(), cpu0 = tt::bench::cpuSeconds();
   if (extremesOnly) {  // the extreme cases of the chosen integrators and models, nothing else
-    if (gridOnly) {
-      std::fprintf(stderr, "bench_stability_sweep: --grid-only and --extremes-only exclude each other\n");
-      return 2;
-    }
     tt::sweepExtremes(quick, out + "/extreme_cases.csv", integrators, models, cases);
     std::printf("wrote %s/extreme_cases.csv in %.0f s (CPU %.0f s)\n", out.c_str(),
                 tt::bench::wallSeconds() - wall0, tt::bench::cpuSeconds() - cpu0);

@@ -42,6 +42,7 @@
 #include <vector>
 
 #include "common/bench_support.h"
+#include "common/command_line.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/integrate/abm3.h"
 #include "tissue_trainer/core/integrate/explicit_euler.h"
@@ -349,34 +350,23 @@ std::vector<std::string> modelsOf(const Problem& p, const std::vector<std::strin
 }
 
 Options parseOptions(int argc, char** argv) {
+  tools::CommandLine options(argc, argv,
+                             "bench_work_precision [--quick] [--repeats N] [--out DIR] "
+                             "[--problems a,b] [--models a,b] [--integrators a,b] [--time-limit S]");
   Options o;
-  bool timeLimitGiven = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool hasValue = i + 1 < argc;
-    if (arg == "--quick") o.quick = true;
-    else if (arg == "--out" && hasValue) o.out = argv[++i];
-    else if (arg == "--problems" && hasValue) o.problems = bench::splitList(argv[++i]);
-    else if (arg == "--models" && hasValue) o.models = bench::splitList(argv[++i]);
-    else if (arg == "--integrators" && hasValue) o.integrators = bench::splitList(argv[++i]);
-    else if (arg == "--repeats" && hasValue)
-      o.repeats = bench::positiveInteger("bench_work_precision", arg, argv[++i]);
-    else if (arg == "--time-limit" && hasValue) {
-      o.timeLimit = bench::positiveNumber("bench_work_precision", arg, argv[++i]);
-      timeLimitGiven = true;
-    }
-    else {
-      std::fprintf(stderr, "usage: bench_work_precision [--quick] [--out DIR] [--problems a,b] "
-                           "[--models a,b] [--integrators a,b] [--time-limit S] [--repeats N]\n");
-      std::exit(2);
-    }
-  }
+  o.quick = options.flag("--quick");
+  o.repeats = options.positiveInteger("--repeats", o.repeats);
+  o.out = options.text("--out", o.out);
+  o.problems = options.list("--problems", {});
+  o.models = options.list("--models", {});
+  o.integrators = options.list("--integrators", {});
+  o.timeLimit = options.positiveNumber("--time-limit", o.quick ? 3.0 : o.timeLimit);
+  options.finish();
   bench::requireKnown("bench_work_precision", "integrator", o.integrators,
                       {"newtonian", "symplectic_euler", "explicit_euler", "backward_euler",
                        "backward_euler_newton", "radau_iia", "abm3", "rk4_adaptive",
                        "backward_euler_adaptive",
                        "static_newton", "quasistatic", "quasistatic_cholesky"});
-  if (o.quick && !timeLimitGiven) o.timeLimit = 3.0;
   if (o.quick && o.models.empty())
     o.models = {"edge_length", "tensor_mass", "adamss_hunter", "adamss_springs",
                 "teran_muscle_inversion_psd"};

@@ -1,5 +1,6 @@
 #include "command_line.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -9,10 +10,20 @@
 namespace tt {
 namespace tools {
 
+namespace {
+
+std::string baseName(const std::string& path) { return path.substr(path.find_last_of('/') + 1); }
+
+}  // namespace
+
 CommandLine::CommandLine(int argc, char** argv, std::string usage)
-    : usage_(std::move(usage)), args_(argv + 1, argv + argc), used_(args_.size(), false) {
-  const std::string program = argc > 0 ? argv[0] : "tool";
-  tool_ = program.substr(program.find_last_of('/') + 1);
+    : CommandLine(baseName(argc > 0 ? argv[0] : "tool"),
+                  std::vector<std::string>(argv + std::min(argc, 1), argv + argc),
+                  std::move(usage)) {}
+
+CommandLine::CommandLine(std::string tool, std::vector<std::string> args, std::string usage)
+    : tool_(std::move(tool)), usage_(std::move(usage)), args_(std::move(args)),
+      used_(args_.size(), false) {
   for (const std::string& arg : args_) {
     if (arg == "--help" || arg == "-h") {
       std::printf("usage: %s\n", usage_.c_str());
@@ -27,6 +38,7 @@ void CommandLine::fail(const std::string& message) const {
 }
 
 bool CommandLine::flag(const std::string& name) {
+  known_.push_back(name);
   bool found = false;
   for (std::size_t k = 0; k < args_.size(); ++k) {
     if (args_[k] != name) continue;
@@ -37,6 +49,7 @@ bool CommandLine::flag(const std::string& name) {
 }
 
 const std::string* CommandLine::valueOf(const std::string& name) {
+  known_.push_back(name);
   const std::string* value = nullptr;
   for (std::size_t k = 0; k < args_.size(); ++k) {
     if (args_[k] != name) continue;
@@ -101,7 +114,13 @@ void CommandLine::finish() {
   for (std::size_t k = 0; k < args_.size(); ++k) {
     if (used_[k]) continue;
     const bool option = args_[k].size() > 1 && args_[k][0] == '-';
-    fail((option ? "unknown option '" : "unexpected argument '") + args_[k] + "'");
+    if (!option) fail("unexpected argument '" + args_[k] + "', expected options only");
+    std::string expected;
+    for (std::size_t n = 0; n < known_.size(); ++n)
+      if (std::find(known_.begin(), known_.begin() + n, known_[n]) == known_.begin() + n)
+        expected += known_[n] + ", ";
+    fail("unknown option '" + args_[k] + "', expected " +
+         (expected.empty() ? "none" : "one of " + expected.substr(0, expected.size() - 2)));
   }
 }
 

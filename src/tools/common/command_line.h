@@ -15,6 +15,8 @@ class CommandLine {
  public:
   // `usage` is the text after "usage: ": the program's name and its options.
   CommandLine(int argc, char** argv, std::string usage);
+  // The same for the arguments after a subcommand: `tool` is e.g. "bench_adamss volume".
+  CommandLine(std::string tool, std::vector<std::string> args, std::string usage);
 
   // True when the flag was given (e.g. "--quick").
   bool flag(const std::string& name);
@@ -39,6 +41,7 @@ class CommandLine {
 
   std::string tool_;
   std::string usage_;
+  std::vector<std::string> known_;  // the options asked for, for the error on an unknown one
   std::vector<std::string> args_;
   std::vector<bool> used_;
 };

@@ -205,27 +205,53 @@ TEST_F(BenchPipeline, StabilitySweepCriticalStepAndExtremeCases) {
                                           "impact_20m_per_s", "sliver_elements"}));
 }
 
-// A misspelt name or a bad count is one error line naming it and exit 2, not a run that
-// silently leaves the name out.
+// A misspelt name or option, a bad count or the old positional form is one error line naming
+// it and exit 2, not a run that silently leaves the name out.
 TEST(BenchCommandLine, UnknownNamesAndBadValuesAreOneErrorLine) {
   fs::create_directories(pipelineOutputDir());
   const std::string out = " --out " + (pipelineOutputDir() / "bad_input").string();
+  const std::string workPrecision = TT_BENCH_WORK_PRECISION_PATH, scaling = TT_BENCH_SCALING_PATH,
+                    sweep = TT_BENCH_STABILITY_SWEEP_PATH;
+  // command, what its error line must name
   std::vector<std::pair<std::string, std::string>> cases = {
-      {std::string(TT_BENCH_WORK_PRECISION_PATH) + " --models edge_lenght", "'edge_lenght'"},
-      {std::string(TT_BENCH_WORK_PRECISION_PATH) + " --problems patch,cantilever", "'cantilever'"},
-      {std::string(TT_BENCH_WORK_PRECISION_PATH) + " --time-limit 0", "'0'"},
-      {std::string(TT_BENCH_STABILITY_SWEEP_PATH) + " --integrators rk4", "'rk4'"},
-      {std::string(TT_BENCH_STABILITY_SWEEP_PATH) + " --models tensormass", "'tensormass'"}};
+      {workPrecision + " --models edge_lenght" + out, "'edge_lenght'"},
+      {workPrecision + " --problems patch,cantilever" + out, "'cantilever'"},
+      {workPrecision + " --time-limit 0" + out, "'0'"},
+      {workPrecision + " --fast" + out, "'--fast'"},
+      {scaling + " --repeats 0" + out, "'0'"},
+      {scaling + " --quick 3" + out, "'3'"},
+      {scaling + " --out", "--out"},
+      {sweep + " --integrators rk4" + out, "'rk4'"},
+      {sweep + " --models tensormass" + out, "'tensormass'"},
+      {sweep + " --cases twist_180deg" + out, "--cases"},
+      {sweep + " --grid-only --extremes-only" + out, "--grid-only"}};
 #ifdef TT_BENCH_BULLET_PEER_PATH
-  cases.push_back({std::string(TT_BENCH_BULLET_PEER_PATH) + " --problems patch", "'patch'"});
-  cases.push_back({std::string(TT_BENCH_BULLET_PEER_PATH) + " --bullet-newton 2.5", "'2.5'"});
+  cases.push_back({std::string(TT_BENCH_BULLET_PEER_PATH) + " --problems patch" + out, "'patch'"});
+  cases.push_back({std::string(TT_BENCH_BULLET_PEER_PATH) + " --bullet-newton 2.5" + out, "'2.5'"});
 #endif
 #ifdef TT_BENCH_BULLET_LIVER_PATH
-  cases.push_back({std::string(TT_BENCH_BULLET_LIVER_PATH) + " --steps 2.5", "'2.5'"});
-  cases.push_back({std::string(TT_BENCH_BULLET_LIVER_PATH) + " --tetgen 'q1.4 a0.1'", "'q1.4 a0.1'"});
+  cases.push_back({std::string(TT_BENCH_BULLET_LIVER_PATH) + " --steps 2.5" + out, "'2.5'"});
+  cases.push_back({std::string(TT_BENCH_BULLET_LIVER_PATH) + " --tetgen 'q1.4 a0.1'" + out, "'q1.4 a0.1'"});
+#endif
+  // The build puts every benchmark in one folder.
+  const fs::path folder = fs::path(scaling).parent_path();
+  const std::string quasistatic = (folder / "bench_quasistatic").string();
+  cases.push_back({quasistatic + " --cases tongue,lips" + out, "'lips'"});
+  cases.push_back({quasistatic + " --threads 0" + out, "'0'"});
+  const std::string clock = (folder / "bench_real_time_clock").string();
+  cases.push_back({clock + " - 0.1 0.1 clock.csv 5.5", "'-'"});  // the old positional form
+  cases.push_back({clock + " --seconds -1", "'-1'"});
+  cases.push_back({clock + " --max-frame-time", "--max-frame-time"});
+#ifdef TT_BENCH_ADAMSS_PATH
+  const std::string adamss = TT_BENCH_ADAMSS_PATH;
+  cases.push_back({adamss + " volume --steps 3" + out, "'--steps'"});
+  cases.push_back({adamss + " stretch --quick 3" + out, "'3'"});
+  cases.push_back({adamss + " scaling --sizes 3,x" + out, "'x'"});
+  cases.push_back({adamss + " strech" + out, "'strech'"});
+  cases.push_back({adamss, "experiment"});
 #endif
   for (const auto& [command, named] : cases) {
-    EXPECT_EQ(run(command + out, "bad_input.log"), 2) << command;
+    EXPECT_EQ(run(command, "bad_input.log"), 2) << command;
     std::ifstream log(pipelineOutputDir() / "bad_input.log");
     std::vector<std::string> lines;
     for (std::string line; std::getline(log, line);) lines.push_back(line);

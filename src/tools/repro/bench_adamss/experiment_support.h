@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "common/command_line.h"
 #include "experiments.h"
 #include "tissue_trainer/core/material/hunter.h"
 #include "tissue_trainer/core/material/neo_hookean.h"
@@ -34,43 +35,24 @@ struct Options {
 };
 
 // Reads --quick, --out DIR, --no-plot and the experiment's options `named` (each "--name" takes
-// one value, empty when not given). Anything else: one usage line on stderr, false.
+// one value, empty when not given); bad input is one error line and exit 2. False (with the
+// reason on stderr) when the output folder cannot be made.
 inline bool parseOptions(const char* experiment, const Args& args,
                          const std::vector<std::string>& named, Options& o) {
-  o.values.assign(named.size(), "");
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    const bool hasValue = i + 1 < args.size();
-    if (a == "--quick") {
-      o.quick = true;
-      continue;
-    }
-    if (a == "--no-plot") {
-      o.plot = false;
-      continue;
-    }
-    if (a == "--out" && hasValue) {
-      o.out = args[++i];
-      continue;
-    }
-    bool known = false;
-    for (std::size_t k = 0; k < named.size() && !known; ++k)
-      if (a == "--" + named[k] && hasValue) {
-        o.values[k] = args[++i];
-        known = true;
-      }
-    if (known) continue;
-    std::string usage =
-        std::string("usage: bench_adamss ") + experiment + " [--quick] [--out DIR] [--no-plot]";
-    for (const std::string& n : named) usage += " [--" + n + " VALUE]";
-    std::fprintf(stderr, "bench_adamss %s: unexpected argument '%s'\n%s\n", experiment, a.c_str(),
-                 usage.c_str());
-    return false;
-  }
+  const std::string tool = std::string("bench_adamss ") + experiment;
+  std::string usage = tool + " [--quick] [--out DIR] [--no-plot]";
+  for (const std::string& n : named) usage += " [--" + n + " VALUE]";
+  tools::CommandLine options(tool, args, usage);
+  o.quick = options.flag("--quick");
+  o.plot = !options.flag("--no-plot");
+  o.out = options.text("--out", o.out);
+  o.values.clear();
+  for (const std::string& n : named) o.values.push_back(options.text("--" + n, ""));
+  options.finish();
   std::error_code error;
   std::filesystem::create_directories(o.out, error);
   if (error) {
-    std::fprintf(stderr, "bench_adamss %s: cannot create %s: %s\n", experiment, o.out.c_str(),
+    std::fprintf(stderr, "%s: cannot create %s: %s\n", tool.c_str(), o.out.c_str(),
                  error.message().c_str());
     return false;
   }

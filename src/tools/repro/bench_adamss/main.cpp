@@ -1,7 +1,8 @@
 // bench_adamss: the verification experiments of "Adamss: Advanced Anisotropic Mass-Spring
 // System" (Sec. 2.8), its mesh-independence claim (Sec. 2.1.2) and the statements of its
 // discussion (Sec. 2.9).
-//   bench_adamss EXPERIMENT [options]    (bench_adamss --help lists them)
+//   bench_adamss EXPERIMENT [--quick] [--out DIR] [--no-plot] [options]
+// (bench_adamss --help lists the experiments; bench_adamss EXPERIMENT --help, its options)
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -32,21 +33,26 @@ const Experiment kExperiments[] = {
      "a spring cantilever at three resolutions (Sec. 2.1.4)"},
 };
 
-void printUsage(FILE* out) {
-  std::fprintf(out, "usage: bench_adamss EXPERIMENT [options]\nexperiments:\n");
-  for (const Experiment& e : kExperiments) std::fprintf(out, "  %-18s %s\n", e.name, e.what);
+void printUsage() {
+  std::printf("usage: bench_adamss EXPERIMENT [--quick] [--out DIR] [--no-plot] [options]\n"
+              "experiments (bench_adamss EXPERIMENT --help: its options):\n");
+  for (const Experiment& e : kExperiments) std::printf("  %-18s %s\n", e.name, e.what);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 2 || std::strcmp(argv[1], "--help") == 0) {
-    printUsage(argc < 2 ? stderr : stdout);
-    return argc < 2 ? 2 : 0;
+  if (argc >= 2 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0)) {
+    printUsage();
+    return 0;
   }
   for (const Experiment& e : kExperiments)
-    if (argv[1] == std::string(e.name)) return e.run(tt::bench_adamss::Args(argv + 2, argv + argc));
-  std::fprintf(stderr, "bench_adamss: unknown experiment '%s'\n", argv[1]);
-  printUsage(stderr);
+    if (argc >= 2 && argv[1] == std::string(e.name))
+      return e.run(tt::bench_adamss::Args(argv + 2, argv + argc));
+  std::string names;
+  for (const Experiment& e : kExperiments) names += std::string(names.empty() ? "" : ", ") + e.name;
+  std::fprintf(stderr, "bench_adamss: %s, expected an experiment: one of %s (bench_adamss --help)\n",
+               argc < 2 ? "no experiment" : ("unknown experiment '" + std::string(argv[1]) + "'").c_str(),
+               names.c_str());
   return 2;
 }

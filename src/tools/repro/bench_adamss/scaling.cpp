@@ -123,11 +123,12 @@ Sample measure(int n, const std::string& preconditioner, int threads, int steps,
   return sample;
 }
 
-std::vector<int> integerList(const std::string& text, const std::vector<int>& fallback) {
+std::vector<int> integerList(const std::string& option, const std::string& text,
+                             const std::vector<int>& fallback) {
   if (text.empty()) return fallback;
   std::vector<int> values;
   for (const std::string& item : bench::splitList(text))
-    values.push_back(bench::positiveInteger("bench_adamss scaling", "a list", item.c_str()));
+    values.push_back(bench::positiveInteger("bench_adamss scaling", option, item.c_str()));
   return values;
 }
 
@@ -139,12 +140,12 @@ int runScaling(const Args& args) {
                     o))
     return 2;
   const std::vector<int> sizes = integerList(
-      o.values[0], o.quick ? std::vector<int>{2, 3, 4} : std::vector<int>{3, 4, 5, 6, 8});
+      "--sizes", o.values[0], o.quick ? std::vector<int>{2, 3, 4} : std::vector<int>{3, 4, 5, 6, 8});
   if (std::set<int>(sizes.begin(), sizes.end()).size() < 2) {
     std::fprintf(stderr, "bench_adamss scaling: --sizes needs at least two different sizes for a slope\n");
     return 2;
   }
-  const std::vector<int> threads = integerList(o.values[1], {1});
+  const std::vector<int> threads = integerList("--threads", o.values[1], {1});
   std::vector<std::string> preconditioners =
       o.values[2].empty() ? std::vector<std::string>{"jacobi", "cholesky"}
                           : bench::splitList(o.values[2]);

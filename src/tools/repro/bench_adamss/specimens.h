@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "common/command_line.h"
 #include "experiments.h"
 #include "tissue_trainer/core/integrate/quasistatic.h"
 #include "tissue_trainer/core/integrate/stability_guard.h"
@@ -34,25 +35,19 @@ struct CommonOptions {
   bool plot = true;
 };
 
-// --out DIR, --quick, --no-plot; false (with the usage line printed) on anything else.
+// --out DIR, --quick, --no-plot; anything else is one error line and exit 2. False (with the
+// reason on stderr) when the output folder cannot be made.
 inline bool parseCommon(const char* experiment, const Args& args, CommonOptions& o) {
-  for (size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "--quick") {
-      o.quick = true;
-    } else if (args[i] == "--no-plot") {
-      o.plot = false;
-    } else if (args[i] == "--out" && i + 1 < args.size()) {
-      o.out = args[++i];
-    } else {
-      std::fprintf(stderr, "usage: bench_adamss %s [--quick] [--out DIR] [--no-plot]\n",
-                   experiment);
-      return false;
-    }
-  }
+  const std::string tool = std::string("bench_adamss ") + experiment;
+  tools::CommandLine options(tool, args, tool + " [--quick] [--out DIR] [--no-plot]");
+  o.quick = options.flag("--quick");
+  o.plot = !options.flag("--no-plot");
+  o.out = options.text("--out", o.out);
+  options.finish();
   std::error_code error;
   std::filesystem::create_directories(o.out, error);
   if (error) {
-    std::fprintf(stderr, "bench_adamss %s: cannot create %s: %s\n", experiment, o.out.c_str(),
+    std::fprintf(stderr, "%s: cannot create %s: %s\n", tool.c_str(), o.out.c_str(),
                  error.message().c_str());
     return false;
   }
