@@ -165,6 +165,7 @@ TEST(TissuePresets, MusclePresetsMakeTheBenchmarksForces) {
   for (const std::string name :
        {"teran_muscle", "teran_muscle_inversion", "teran_muscle_inversion_psd"}) {
     expectSameForces(name, oldMuscle(name, mesh, 30e3, 0.45), mesh, materials);
+  }
 }
 
 // A model's preset is a list of one: the model makePreset makes.
