@@ -2,8 +2,12 @@
 //   {type: muscle_groups, law: teran_muscle, inversion_threshold, psd_projection,
 //    muscles: [{name, region, fibres, activation}, ...]}
 // The law's constants come from the `materials` entries (their teran_muscle map); the
-// activations only from `muscles`.
+// activations only from `muscles`. Beside it, the muscle tissue presets (teran_muscle,
+// teran_muscle_inversion, teran_muscle_inversion_psd).
+#include <memory>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "../material/teran_muscle_reader.h"
 #include "../scene/scene_fibres.h"
@@ -73,6 +77,65 @@ std::vector<MuscleGroup> readGroups(const YamlEntry& list, Mesh& mesh) {
   return groups;
 }
 
+// The tissue presets over muscle_groups: the teran_muscle law (M. Bao, "Derivation of
+// Quasistatics and Landmark Optimization for Muscles", Sec. 4.3, Eq. 10) with one muscle over
+// every element, its fibres along each element's fibre axis, at activation 0.5. For Young's
+// modulus E and Poisson ratio nu the law's constants give the same small-strain response as the
+// isotropic material: shear modulus mu = 2 (A + B) with A = 3 B (FACE_3D's ratio 6e4 : 2e4),
+// bulk modulus K = E / (3 (1 - 2 nu)); the peak stress sigma_max = mu.
+constexpr double kMusclePresetActivation = 0.5;
+
+TeranMuscleLaw::Constants musclePresetConstants(const std::string& preset,
+                                                const ModelContext& context) {
+  const IsotropicModuli m = context.tissueModuli(preset);
+  if (!(m.young > 0.0) || !(m.poisson > -1.0 && m.poisson < 0.5))
+    throw std::invalid_argument("preset '" + preset +
+                                "' expects a Young's modulus > 0 and a Poisson ratio in (-1, 0.5), "
+                                "got " + std::to_string(m.young) + " and " +
+                                std::to_string(m.poisson));
+  const double mu = m.young / (2.0 * (1.0 + m.poisson));
+  TeranMuscleLaw::Constants k;
+  k.A = 0.375 * mu;
+  k.B = 0.125 * mu;
+  k.K = m.young / (3.0 * (1.0 - 2.0 * m.poisson));
+  k.sigmaMax = mu;
+  return k;
+}
+
+// The muscle tissue preset `preset` with the law's options `options`.
+TissuePreset musclePreset(const std::string& preset, const LawOptions& options,
+                          const std::string& description) {
+  auto make = [preset, options](const ModelContext& context) {
+    Mesh mesh = context.mesh;
+    mesh.fillDefaults();
+    MuscleGroup block;
+    block.name = "block";
+    block.activation = kMusclePresetActivation;
+    for (int e = 0; e < mesh.numTets() + mesh.numHexes(); ++e) block.elements.push_back(e);
+    std::vector<std::unique_ptr<ForceModel>> models;
+    models.push_back(std::make_unique<MuscleGroupsModel>(
+        mesh, std::vector<TeranMuscleLaw::Constants>{musclePresetConstants(preset, context)},
+        std::vector<MuscleGroup>{block}, options));
+    return models;
+  };
+  return {preset, description, make};
+}
+
+void addMusclePresets(Registry& registry) {
+  LawOptions inversion;
+  inversion.inversionThreshold = 0.25;  // PhysBAM's value
+  LawOptions psd = inversion;
+  psd.psdProjection = true;
+  const std::string tissue = "muscle_groups with the teran_muscle law, its constants from the "
+                             "material's E and nu, one muscle over every element at activation "
+                             "0.5";
+  registry.add(musclePreset("teran_muscle", LawOptions{}, tissue + "; no inversion handling"));
+  registry.add(musclePreset("teran_muscle_inversion", inversion,
+                            tissue + "; inversion_threshold 0.25"));
+  registry.add(musclePreset("teran_muscle_inversion_psd", psd,
+                            tissue + "; inversion_threshold 0.25, tangents projected to PSD"));
+}
+
 }  // namespace
 
 void registerMuscleGroupsModel(Registry& registry) {
@@ -105,6 +168,7 @@ void registerMuscleGroupsModel(Registry& registry) {
     }
   };
   registry.add(std::move(e));
+  addMusclePresets(registry);
 }
 
 }  // namespace tt

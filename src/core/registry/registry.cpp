@@ -37,6 +37,13 @@ void requireDistinctKeys(const std::string& section, const std::string& name,
                              "' twice (or 'type', or an empty key)");
 }
 
+// "a, b, c".
+std::string joinPresetNames(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
 // `type` plus the entry's declared keys.
 std::vector<std::string> allowedKeys(const std::vector<KeyDoc>& keys) {
   std::vector<std::string> allowed{"type"};
@@ -104,6 +111,14 @@ void Registry::add(IntegratorEntry entry) {
   integrators_.push_back(std::move(entry));
 }
 
+void Registry::add(TissuePreset preset) {
+  requireName("tissue preset", preset.name, static_cast<bool>(preset.make));
+  const std::vector<std::string> presets = presetNames();
+  if (std::count(presets.begin(), presets.end(), preset.name))
+    throw std::logic_error("registry: preset '" + preset.name + "' registered twice");
+  tissues_.push_back(std::move(preset));
+}
+
 const ForceModelEntry* Registry::findForceModel(const std::string& name) const {
   return findByName(models_, name);
 }
@@ -117,6 +132,12 @@ std::string Registry::lawNames() const { return joinNames(laws_); }
 std::string Registry::integratorNames() const { return joinNames(integrators_); }
 
 std::vector<std::string> Registry::presetNames() const {
+  std::vector<std::string> names = modelPresetNames();
+  for (const TissuePreset& t : tissues_) names.push_back(t.name);
+  return names;
+}
+
+std::vector<std::string> Registry::modelPresetNames() const {
   std::vector<std::string> names;
   for (const ForceModelEntry& m : models_)
     for (const ModelPreset& p : m.presets) names.push_back(p.name);
@@ -163,14 +184,36 @@ std::unique_ptr<ForceModel> Registry::makePreset(const std::string& name,
       const std::string origin = "preset " + p.name;
       return makeForceModel(YamlEntry(spec, "", &origin), context);
     }
-  std::string known;
-  for (const std::string& n : presetNames()) known += (known.empty() ? "" : ", ") + n;
-  throw UnknownNameError("unknown force model '" + name + "' (expected one of: " + known + ")");
+  const std::string what = findByName(tissues_, name)
+                               ? "'" + name + "' is a tissue of several force models, not one"
+                               : "unknown force model '" + name + "'";
+  throw UnknownNameError(what + " (expected one of: " + joinPresetNames(modelPresetNames()) + ")");
+}
+
+std::vector<std::unique_ptr<ForceModel>> Registry::makePresetModels(
+    const std::string& name, const ModelContext& context) const {
+  std::vector<std::unique_ptr<ForceModel>> models;
+  if (const TissuePreset* tissue = findByName(tissues_, name)) {
+    models = tissue->make(context);
+  } else {
+    const std::vector<std::string> single = modelPresetNames();
+    if (!std::count(single.begin(), single.end(), name))
+      throw UnknownNameError("unknown force model '" + name + "' (expected one of: " +
+                             joinPresetNames(presetNames()) + ")");
+    models.push_back(makePreset(name, context));
+  }
+  return models;
 }
 
 std::unique_ptr<ForceModel> makeElasticModel(const std::string& preset, const Mesh& mesh,
                                              const std::vector<Material>& materials) {
   return registry().makePreset(preset, ModelContext{mesh, materials, {}});
+}
+
+std::vector<std::unique_ptr<ForceModel>> makePresetModels(const std::string& preset,
+                                                          const Mesh& mesh,
+                                                          const std::vector<Material>& materials) {
+  return registry().makePresetModels(preset, ModelContext{mesh, materials, {}});
 }
 
 const Registry& registry() {

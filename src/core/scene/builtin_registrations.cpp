@@ -19,6 +19,7 @@ void registerVolumeSpringModel(Registry&);       // src/core/model/adamss/
 void registerCavityModel(Registry&);             // src/core/model/adamss/
 void registerLmsVolumeSpringModel(Registry&);   // src/core/model/adamss/
 void registerActiveTensionModel(Registry&);      // src/core/model/adamss/
+void registerAdamssTissuePresets(Registry&);     // src/core/model/adamss/
 void registerMuscleGroupsModel(Registry&);
 void registerCollisionModel(Registry&);
 // Material laws (src/core/material/*_registration.cpp).
@@ -50,6 +51,7 @@ void registerBuiltIns(Registry& registry) {
   registerCavityModel(registry);
   registerLmsVolumeSpringModel(registry);
   registerActiveTensionModel(registry);
+  registerAdamssTissuePresets(registry);
   registerMuscleGroupsModel(registry);
   registerCollisionModel(registry);
   registerStvkLaw(registry);

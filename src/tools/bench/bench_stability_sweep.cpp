@@ -29,14 +29,14 @@
 // 3. Extreme cases at E = 10 kPa, nu = 0.45: 80 % compression, a forced inversion, a
 //    180-degree twist, a 20 m/s impact, sliver elements (the block flattened 50:1).
 //    -> extreme_cases.csv
-// Besides the registry's presets, the grid and the extreme cases run the two Adamss tissue
-// models of adamss_bench_models.h (adamss_hunter, adamss_springs), their stiffness scaled to
-// Young's modulus and a volume term from the Poisson ratio (see that file), and the muscle
-// tissue of muscle_bench_models.h (muscle_groups with the teran_muscle law at activation 0.5:
+// The grid and the extreme cases run the registry's presets, among them the tissue presets: the
+// two Adamss tissues (adamss_hunter, adamss_springs), their stiffness scaled to Young's modulus
+// and a volume term from the Poisson ratio (src/core/model/adamss/tissue_presets_registration.cpp),
+// and the muscle tissue (muscle_groups with the teran_muscle law at activation 0.5:
 // teran_muscle, teran_muscle_inversion with inversion threshold 0.25, and
 // teran_muscle_inversion_psd with PSD-projected tangents, which only the integrators that use
-// the stiffness run: for the others it is teran_muscle_inversion). The muscle tissue alone also
-// runs the quasistatic solver (each frame the equilibrium at the frame's end; the step h is
+// the stiffness run: for the others it is teran_muscle_inversion). The muscle tissue (the
+// presets with an activated model) alone also runs the quasistatic solver (each frame the equilibrium at the frame's end; the step h is
 // only the frame), in the grid and in every extreme case but the impact, which is all inertia.
 // The energy of the tests is counted from the rest state's (the muscle law keeps
 // psi(I) = 3 (A + B)).
@@ -49,14 +49,13 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "common/adamss_bench_models.h"
 #include "common/bench_support.h"
 #include "common/command_line.h"
-#include "muscle_bench_models.h"
 #include "tissue_trainer/core/integrate/abm3.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/integrate/explicit_euler.h"
@@ -66,6 +65,7 @@
 #include "tissue_trainer/core/integrate/radau_iia.h"
 #include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/mesh/generators.h"
+#include "tissue_trainer/core/model/activated_force_model.h"
 
 namespace tt {
 namespace {
@@ -74,7 +74,6 @@ constexpr double kBlock = 0.02;       // m
 constexpr double kDensity = 1000.0;   // kg/m^3
 constexpr double kDampingRate = 1.0;  // 1/s, mass damping
 constexpr double kBlowUpGrowth = 10.0;
-constexpr double kMuscleActivation = 0.5;
 
 // ---- the block ------------------------------------------------------------------------------
 
@@ -91,12 +90,7 @@ std::unique_ptr<System> blockSystem(const std::string& model, double young, doub
                                     const Mesh& mesh) {
   auto s = std::make_unique<System>(mesh, std::vector<Material>{
                                               Material::isotropic(young, poisson, kDensity)});
-  if (adamss_bench::isAdamssModel(model))
-    adamss_bench::addModel(*s, model, adamss_bench::scalingFor(young, poisson));
-  else if (muscle_bench::isMuscleModel(model))
-    muscle_bench::addModel(*s, model, young, poisson, kMuscleActivation);
-  else
-    s->models.push_back(makeElasticModel(model, s->mesh, s->materials));
+  bench::addPreset(*s, model);
   s->damping = kDampingRate * s->mass;
   s->updateConstraints();
   return s;
@@ -187,10 +181,25 @@ bool usesStiffness(const std::string& integrator) {
          integrator == "radau_iia_fixed" || integrator == "quasistatic";
 }
 
+// Whether the preset has an activated model (the muscle tissue): the one kind whose
+// equilibrium the quasistatic solver is run to find.
+bool isActivated(const std::string& model) {
+  static std::map<std::string, bool> known;
+  auto it = known.find(model);
+  if (it == known.end()) {
+    const auto s = blockSystem(model, 1e4, 0.45, blockMesh());
+    const bool activated = std::any_of(s->models.begin(), s->models.end(), [](const auto& m) {
+      return dynamic_cast<const ActivatedForceModel*>(m.get()) != nullptr;
+    });
+    it = known.emplace(model, activated).first;
+  }
+  return it->second;
+}
+
 // The pairs the sweep runs: the quasistatic solver on the muscle tissue only, and the
 // PSD-projected muscle only where the projection changes anything.
 bool runsPair(const std::string& integrator, const std::string& model) {
-  if (integrator == "quasistatic") return muscle_bench::isMuscleModel(model);
+  if (integrator == "quasistatic") return isActivated(model);
   return model != "teran_muscle_inversion_psd" || usesStiffness(integrator);
 }
 
@@ -334,9 +343,7 @@ Grid grid(bool quick) {
   g.young = {1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
   g.poisson = {0.3, 0.45, 0.49, 0.4999};
   g.steps = {1e-5, 1e-4, 1e-3, 1e-2, 1e-1};
-  g.models = bench::elasticModelNames();
-  for (const std::string& m : adamss_bench::modelNames()) g.models.push_back(m);  // Adamss
-  for (const std::string& m : muscle_bench::modelNames()) g.models.push_back(m);
+  g.models = registry().presetNames();
   g.integrators = kIntegrators;
   g.integrators.insert(g.integrators.end(), kAdaptiveIntegrators.begin(),
                        kAdaptiveIntegrators.end());
@@ -550,8 +557,7 @@ void sweepExtremes(bool quick, const std::string& path,
   std::vector<std::string> models =
       quick ? std::vector<std::string>{"edge_length", "teran_muscle_inversion"} : std::vector<std::string>{"edge_length", "stvk_displacement", "tensor_mass"};
   if (!quick)  // the Adamss models and the muscle tissue
-    for (const auto* names : {&adamss_bench::modelNames(), &muscle_bench::modelNames()})
-      models.insert(models.end(), names->begin(), names->end());
+    for (const TissuePreset& t : registry().tissuePresets()) models.push_back(t.name);
   std::vector<std::pair<std::string, double>> steppers =
       quick ? std::vector<std::pair<std::string, double>>{{"backward_euler", 1e-3}, {"quasistatic", 0.05}}
             : std::vector<std::pair<std::string, double>>{
@@ -578,7 +584,7 @@ void sweepExtremes(bool quick, const std::string& path,
       for (const std::string& model : models) {
         if (!bench::selected(onlyCases, c.name) || !runsPair(integrator, model) ||
             (integrator == "quasistatic" && c.name == "impact_20m_per_s") ||
-            (quick && muscle_bench::isMuscleModel(model) && integrator != "quasistatic"))
+            (quick && isActivated(model) && integrator != "quasistatic"))
           continue;
         const Mesh mesh = blockMesh(c.heightScale);
         const int frames = static_cast<int>(std::ceil(c.duration / h));

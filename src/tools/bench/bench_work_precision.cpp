@@ -11,11 +11,13 @@
 //                             at a very tight tolerance
 //   4. patch                  affine boundary motion; error against the affine field
 //   5. uniaxial_stretch       a myocardium cube stretched 15 % along its fibres, for the two
-//                             Adamss models only (work_precision_adamss.h); error of the end
-//                             stress against the Hunter law
+//                             Adamss tissue presets only (work_precision_adamss.h); error of
+//                             the end stress against the Hunter law
 //   6. muscle_contraction     a muscle block contracting to equilibrium at activation 0.5, for
-//                             the teran_muscle variants only (work_precision_muscle.h); error
-//                             against the equilibrium of the same model
+//                             the teran_muscle tissue presets only (work_precision_muscle.h);
+//                             error against the equilibrium of the same model
+// Problems 1 to 4 run the presets of the registry's models (one force model each); 5 and 6 the
+// tissue presets they are written for.
 // The static problems (1 and 6) also run the quasistatic solver: one frame, the equilibrium
 // at a sweep of tolerances (Jacobi- and Cholesky-preconditioned CG); the mesh-refinement runs
 // of 1 run it beside the bench's own static Newton.
@@ -50,7 +52,6 @@
 #include "tissue_trainer/core/integrate/quasistatic.h"
 #include "tissue_trainer/core/integrate/rk4_adaptive.h"
 #include "tissue_trainer/core/parallel.h"
-#include "muscle_bench_models.h"
 #include "work_precision_csv.h"
 #include "work_precision_adamss.h"
 #include "work_precision_muscle.h"
@@ -339,13 +340,17 @@ RunResult meshConvergenceRun(const MeshRun& run) {
 
 // --- main --------------------------------------------------------------------------------------
 
-// The chosen models a problem runs: its own (the Adamss models), or else the presets.
+// Whether `model` is the preset of one registered force model (not a tissue preset).
+bool isModelPreset(const std::string& model) {
+  static const std::vector<std::string> names = bench::elasticModelNames();
+  return std::find(names.begin(), names.end(), model) != names.end();
+}
+
+// The chosen models a problem runs: its own (tissue presets), or else the models' presets.
 std::vector<std::string> modelsOf(const Problem& p, const std::vector<std::string>& chosen) {
   std::vector<std::string> out;
   for (const std::string& m : chosen)
-    if (p.models.empty() ? !adamss_bench::isAdamssModel(m) && !muscle_bench::isMuscleModel(m)
-                         : bench::selected(p.models, m))
-      out.push_back(m);
+    if (p.models.empty() ? isModelPreset(m) : bench::selected(p.models, m)) out.push_back(m);
   return out;
 }
 
@@ -412,9 +417,7 @@ int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
   const Options options = parseOptions(argc, argv);
   setThreadCount(1);
-  std::vector<std::string> models = bench::elasticModelNames();
-  for (const std::string& m : adamss_bench::modelNames()) models.push_back(m);
-  for (const std::string& m : muscle_bench::modelNames()) models.push_back(m);
+  std::vector<std::string> models = registry().presetNames();
   bench::keepOnly("bench_work_precision", "model", models, options.models);
   auto problems = makeProblems(options);  // names checked before anything is written
   std::filesystem::create_directories(options.out);
@@ -430,7 +433,7 @@ int main(int argc, char** argv) {
       if (bench::selected(options.integrators, integrator))
         for (int cells : options.quick ? std::vector<int>{1, 2} : std::vector<int>{1, 2, 3, 4, 6, 8})
           for (const std::string& m : models)
-            if (!adamss_bench::isAdamssModel(m) && !muscle_bench::isMuscleModel(m))
+            if (isModelPreset(m))
               meshRuns.push_back({cells, m, integrator});
 
   struct Task {

@@ -1,7 +1,9 @@
 #pragma once
 // The Adamss problem of bench_work_precision: uniaxial stretch of a myocardium cube along its
 // fibres ("Adamss: Advanced Anisotropic Mass-Spring System", Sec. 2.8.1), run dynamically by
-// each integrator, for the two Adamss models of adamss_bench_models.h (no volume term).
+// each integrator, for the two Adamss tissue presets (adamss_hunter, adamss_springs) at
+// E = 10 kPa, where their stiffness is Table 2.1's and Table 2.2's, and nu = 0, where they have
+// no volume term.
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -11,7 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "common/adamss_bench_models.h"
+#include "common/bench_support.h"
+#include "tissue_trainer/core/material/hunter.h"
 #include "work_precision_problems.h"
 
 namespace tt {
@@ -29,7 +32,7 @@ class UniaxialStretch : public Problem {
  public:
   UniaxialStretch() {
     name = "uniaxial_stretch";
-    models = adamss_bench::modelNames();
+    models = {"adamss_hunter", "adamss_springs"};
     duration = 0.1;
     sampleInterval = 0.005;
     bodySize = lengthScale = kSize;
@@ -59,8 +62,8 @@ class UniaxialStretch : public Problem {
     for (int n = 0; n < mesh.numNodes(); ++n)
       if (mesh.rest(2, n) < 1e-12) mesh.nodeTags[n] = kFixedAll;
     auto s = std::make_unique<System>(mesh, std::vector<Material>{
-                                                Material::isotropic(1.0, 0.0, kDensity)});
-    adamss_bench::addModel(*s, model);
+                                                Material::isotropic(kYoung, 0.0, kDensity)});
+    bench::addPreset(*s, model);
     s->damping = kDamping * s->mass;
     s->controlled.push_back(
         {topNodes(s->mesh),
@@ -100,6 +103,7 @@ class UniaxialStretch : public Problem {
  private:
   static constexpr double kSize = 0.01, kStrain = 0.15, kRamp = 0.05;
   static constexpr double kDensity = 1060.0, kDamping = 100.0;
+  static constexpr double kYoung = 10e3;  // the tissue presets' unscaled stiffness
 
   static std::vector<int> topNodes(const Mesh& mesh) {
     std::vector<int> nodes;

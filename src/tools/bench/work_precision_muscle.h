@@ -1,8 +1,8 @@
 #pragma once
 // The muscle problem of bench_work_precision: a block of muscle_groups tissue (the teran_muscle
 // law, M. Bao, "Derivation of Quasistatics and Landmark Optimization for Muscles", Sec. 4.3,
-// Eq. 10) contracting to its equilibrium at activation 0.5, for the variants of
-// muscle_bench_models.h. A static problem: the quasistatic solver finds the equilibrium in one
+// Eq. 10) contracting to its equilibrium at activation 0.5, for the muscle tissue presets
+// (teran_muscle, teran_muscle_inversion, teran_muscle_inversion_psd). A static problem: the quasistatic solver finds the equilibrium in one
 // frame, the dynamic integrators run the damped motion to rest.
 #include <Eigen/Core>
 #include <algorithm>
@@ -12,14 +12,15 @@
 #include <string>
 #include <vector>
 
-#include "muscle_bench_models.h"
+#include "common/bench_support.h"
+#include "tissue_trainer/core/model/activated_force_model.h"
 #include "work_precision_problems.h"
 
 namespace tt {
 namespace work_precision {
 
 // 6. A 2 x 2 x 1 cm block (4 x 4 x 2 cells, 192 tets), fibres along x, the base clamped, E 30
-// kPa / nu 0.45 through the law's constants (muscle_bench::constantsFor), 1060 kg/m^3, the one
+// kPa / nu 0.45 through the law's constants (the presets' scaling), 1060 kg/m^3, the one
 // muscle switched on at activation 0.5 at t = 0 and held; mass-proportional damping 2 omega_1
 // (critical for the lowest mode at rest), run for 20 / omega_1. Error (and discrete error):
 // the largest node distance of the end state from the equilibrium of the same model, relative
@@ -30,7 +31,7 @@ class MuscleContraction : public Problem {
  public:
   MuscleContraction() {
     name = "muscle_contraction";
-    models = muscle_bench::modelNames();
+    models = {"teran_muscle", "teran_muscle_inversion", "teran_muscle_inversion_psd"};
     isStatic = true;
     auto s = build("teran_muscle");
     const bench::RestModes modes = bench::restModes(*s);
@@ -57,7 +58,7 @@ class MuscleContraction : public Problem {
       if (mesh.rest(2, n) < 1e-12) mesh.nodeTags[n] = kFixedAll;
     auto s = std::make_unique<System>(
         mesh, std::vector<Material>{Material::isotropic(kYoung, kPoisson, kDensity)});
-    muscle_bench::addModel(*s, model, kYoung, kPoisson, kActivation);
+    bench::addPreset(*s, model);
     s->damping = damping_ * s->mass;
     s->updateConstraints();
     return s;
@@ -87,7 +88,7 @@ class MuscleContraction : public Problem {
 
  private:
   static constexpr double kSize = 0.01, kYoung = 30e3, kPoisson = 0.45, kDensity = 1060.0;
-  static constexpr double kActivation = 0.5;
+  static constexpr double kActivation = 0.5;  // the presets' activation
 
   static double nodeDistance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
     return (a - b).reshaped(3, a.size() / 3).colwise().norm().maxCoeff();

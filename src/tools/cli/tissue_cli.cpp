@@ -444,7 +444,9 @@ int forces(const Arguments& args) {
   k.mu = args.number("mu");
   k.lambdaL = args.has("lambda-l") ? args.number("lambda-l") : k.lambda;
   k.muL = args.has("mu-l") ? args.number("mu-l") : k.mu;
-  const tt::Material material = tt::Material::withConstants(k, 1000.0);
+  tt::Material material = tt::Material::withConstants(k, 1000.0);
+  if (k.lambdaL == k.lambda && k.muL == k.mu)  // isotropic: the tissue presets scale to E and nu
+    material.moduli = tt::IsotropicModuli::fromLame(k.lambda, k.mu);
   if (args.has("fiber")) {
     Eigen::Vector3d a0(args.number("fiber", 0), args.number("fiber", 1), args.number("fiber", 2));
     if (a0.norm() == 0.0) throw UsageError("--fiber expects a non-zero direction");
@@ -452,16 +454,17 @@ int forces(const Arguments& args) {
     for (Eigen::Matrix3d& frame : mesh.fibreFrame) frame.col(0) = a0;
   }
   mesh.material.assign(mesh.numTets(), 0);
-  std::unique_ptr<tt::ForceModel> model;
+  std::vector<std::unique_ptr<tt::ForceModel>> models;
   try {
-    model = tt::makeElasticModel(args.text("model"), mesh, {material});
+    models = tt::makePresetModels(args.text("model"), mesh, {material});
   } catch (const tt::UnknownNameError&) {
     std::string known;
     for (const std::string& n : tt::registry().presetNames()) known += (known.empty() ? "" : ", ") + n;
     throw UsageError("--model expects one of: " + known + "; got '" + args.text("model") + "'");
   }
-  return printForcesAt(args, {model.get()}, tt::meshPattern(mesh),
-                       mesh.numNodes());
+  std::vector<const tt::ForceModel*> used;
+  for (const auto& m : models) used.push_back(m.get());
+  return printForcesAt(args, used, tt::meshPattern(mesh), mesh.numNodes());
 }
 
 // --- stretch and shear: quasi-static material tests of the scene's specimen -----------------
@@ -592,6 +595,8 @@ int models(const Arguments& args) {
       std::printf("  preset %s%s%s: %s\n", p.name.c_str(), p.options.empty() ? "" : " ",
                   p.options.c_str(), p.description.c_str());
   }
+  for (const tt::TissuePreset& t : r.tissuePresets())
+    std::printf("tissue_preset %s: %s\n", t.name.c_str(), t.description.c_str());
   for (const tt::LawEntry& l : r.laws()) {
     std::printf("law %s: %s\n", l.name.c_str(), l.description.c_str());
     printKeys(l.materialKeys);

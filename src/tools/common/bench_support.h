@@ -124,8 +124,13 @@ inline void keepOnly(const char* tool, const char* what, std::vector<std::string
              list.end());
 }
 
-// The force model presets of the registry ("edge_length, edge_length_literal, ...").
-inline std::vector<std::string> elasticModelNames() { return registry().presetNames(); }
+// The presets of the registry's force models, one model each ("edge_length, ...").
+inline std::vector<std::string> elasticModelNames() { return registry().modelPresetNames(); }
+
+// Adds the force models of any preset (a model's or a tissue's) to the system.
+inline void addPreset(System& s, const std::string& preset) {
+  for (auto& m : makePresetModels(preset, s.mesh, s.materials)) s.models.push_back(std::move(m));
+}
 
 // -K at x with identity rows and columns for the constrained DOFs, column-major for the
 // sparse solvers.

@@ -243,7 +243,7 @@ TEST(Abm3, RunsWithEveryForceModel) {
   mesh.fillDefaults();
   for (int n = 0; n < mesh.numNodes(); ++n)
     if (mesh.rest(2, n) < 1e-12) mesh.nodeTags[n] = kFixedAll;
-  for (const std::string& preset : registry().presetNames()) {
+  for (const std::string& preset : registry().modelPresetNames()) {
     System s(mesh, {Material::isotropic(3e3, 0.4, 1000.0)});
     s.models.push_back(makeElasticModel(preset, s.mesh, s.materials));
     s.damping = 5.0 * s.mass;

@@ -1,5 +1,6 @@
-// The physics checks on every force-model preset the registry holds, so that a model added to
-// the registry is checked without a test file of its own: force against energy and stiffness
+// The physics checks on every preset of a registered force model (one model each; the tissue
+// presets are checked in test_tissue_presets.cpp), so that a model added to the registry is
+// checked without a test file of its own: force against energy and stiffness
 // against force by finite differences, a symmetric stiffness, K d against the assembled K, no
 // force at rest, invariance under translation and rotation. A preset is exempt from a check
 // only where kExempt says why, and checked at smaller motions only where kSmallerMotion says why.
@@ -57,7 +58,7 @@ TEST(RegisteredModels, EveryPresetPassesThePhysicsChecks) {
   std::mt19937 rng(31);
   const Mesh mesh = boxMesh(2, 2, 1, 0.01, rng);
   const std::vector<Material> materials = testMaterials();
-  for (const std::string& preset : registry().presetNames()) {
+  for (const std::string& preset : registry().modelPresetNames()) {
     SCOPED_TRACE(preset);
     const auto model = makeElasticModel(preset, mesh, materials);
     const Eigen::VectorXd rest = restVector(mesh);

@@ -613,6 +613,45 @@ TEST(Cli, FlagFormTeranMuscleRejectsBadFlagsInOneLine) {
   }
 }
 
+// A tissue preset in the flag form: the forces of its models together, the material's E and nu
+// from --lambda and --mu; `models` lists it and an unknown name's error names it.
+TEST(Cli, FlagFormTakesATissuePreset) {
+  const Mesh mesh = boxGrid(3, 3, 3, Eigen::Vector3d(0.02, 0.02, 0.02), TetSplit::kFiveMirrored);
+  const fs::path dir = fs::temp_directory_path() / "tt_cli_scene";
+  fs::create_directories(dir);
+  writeMesh((dir / "tissue.vtu").string(), mesh);
+  Mesh read = readMesh((dir / "tissue.vtu").string());
+  Eigen::VectorXd x = read.rest.reshaped();
+  for (int i = 0; i < x.size(); ++i) x[i] *= 1.0 + 0.03 * std::sin(1.3 * i);
+  const std::string files = " --mesh " + (dir / "tissue.vtu").string() + " --deformed " +
+                            writeNodeVectors("tissue_x.txt", x).string();
+  const Result r = runCli("forces --model adamss_hunter --lambda 2000 --mu 1000" + files);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const ForcesOutput out = parseForces(r.out, read.numNodes(), false);
+  read.material.assign(read.numTets(), 0);
+  ElasticConstants k;
+  k.lambda = k.lambdaL = 2000.0;
+  k.mu = k.muL = 1000.0;
+  Material m = Material::withConstants(k, 1000.0);
+  m.moduli = IsotropicModuli::fromLame(2000.0, 1000.0);
+  const auto models = makePresetModels("adamss_hunter", read, {m});
+  EXPECT_EQ(models.size(), 2u) << "the Hunter law and the volume term";
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(x.size());
+  for (const auto& model : models) model->addForce(x, Eigen::VectorXd::Zero(x.size()), f);
+  EXPECT_GT(f.norm(), 0.0);
+  EXPECT_LT((out.force - f).norm(), 1e-12 * f.norm());
+
+  const Result listed = runCli("models");
+  ASSERT_EQ(listed.exitCode, 0) << listed.err;
+  for (const TissuePreset& t : registry().tissuePresets())
+    EXPECT_NE(listed.out.find("tissue_preset " + t.name + ": " + t.description + "\n"),
+              std::string::npos) << t.name;
+  const Result unknown = runCli("forces --model adamss_hunterr --lambda 2000 --mu 1000" + files);
+  EXPECT_EQ(unknown.exitCode, 2);
+  EXPECT_NE(unknown.err.find("adamss_springs"), std::string::npos) << unknown.err;
+  EXPECT_EQ(std::count(unknown.err.begin(), unknown.err.end(), '\n'), 1) << unknown.err;
+}
+
 // `models` prints every registered entry and each of its keys.
 TEST(Cli, ModelsListsEveryRegisteredEntryWithItsKeys) {
   const Result r = runCli("models");

@@ -22,6 +22,18 @@ struct ElasticConstants {
   double fibreCoefficient() const { return 0.5 * (lambdaL - lambda) + (muL - mu); }
 };
 
+// Young's modulus E (Pa) and Poisson ratio nu of an isotropic material.
+struct IsotropicModuli {
+  double young = 0.0;
+  double poisson = 0.0;
+
+  // From the Lame constants: nu = lambda / (2 (lambda + mu)), E = 2 mu (1 + nu).
+  static IsotropicModuli fromLame(double lambda, double mu) {
+    const double nu = lambda / (2.0 * (lambda + mu));
+    return {2.0 * mu * (1.0 + nu), nu};
+  }
+};
+
 inline double lameLambda(double E, double nu) { return E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)); }
 inline double lameMu(double E, double nu) { return E / (2.0 * (1.0 + nu)); }
 

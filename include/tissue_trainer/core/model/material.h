@@ -16,6 +16,9 @@ namespace tt {
 struct Material {
   double density = 1000.0;                  // kg/m^3
   std::optional<ElasticConstants> elastic;  // unset: the material gives no Lame constants
+  // Young's modulus and Poisson ratio, set by isotropic() (or by the caller): the tissue
+  // presets scale a published law to them (registry.h, TissuePreset).
+  std::optional<IsotropicModuli> moduli;
 
   // Lame constants from Young's modulus E (Pa) and Poisson ratio nu in (-1, 0.5).
   static Material isotropic(double E, double nu, double density);
@@ -41,7 +44,9 @@ inline Material Material::withConstants(const ElasticConstants& k, double densit
 }
 
 inline Material Material::isotropic(double E, double nu, double density) {
-  return withConstants(ElasticConstants::isotropic(E, nu), density);
+  Material m = withConstants(ElasticConstants::isotropic(E, nu), density);
+  m.moduli = IsotropicModuli{E, nu};
+  return m;
 }
 
 inline Material Material::transverselyIsotropic(double ET, double nuT, double EL, double nuL,

@@ -4,6 +4,8 @@
 // model and law factories (registry/registry.h).
 #include <cstddef>
 #include <optional>
+#include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -30,6 +32,18 @@ struct ModelContext {
   // The `materials` entry of material m, nullptr outside a scene.
   const YamlEntry* entry(std::size_t m) const {
     return m < materialEntries.size() ? &materialEntries[m] : nullptr;
+  }
+
+  // Young's modulus and Poisson ratio of the one material a tissue preset is made of
+  // (Material::moduli); std::invalid_argument naming the preset otherwise.
+  IsotropicModuli tissueModuli(const std::string& preset) const {
+    if (materials.size() != 1 || !materials[0].moduli)
+      throw std::invalid_argument("preset '" + preset +
+                                  "' expects one material with a Young's modulus and a Poisson "
+                                  "ratio (Material::isotropic), got " +
+                                  std::to_string(materials.size()) + " material(s)" +
+                                  (materials.size() == 1 ? " without them" : ""));
+    return *materials[0].moduli;
   }
 
   // The Lame constants read so far, per material id (lameConstants reads each entry once; the

@@ -54,6 +54,16 @@ struct ModelPreset {
   std::string description;
 };
 
+// A named tissue of one or more force models over a mesh and its materials, e.g. the Hunter law
+// of Adamss Table 2.1 through the virtual hexahedron plus a volume term, scaled to the material's
+// Young's modulus and Poisson ratio. It shares the preset names: benchmarks and `tissue_cli
+// forces --model` take it like a ModelPreset (Registry::makePresetModels).
+struct TissuePreset {
+  std::string name;
+  std::string description;
+  std::function<std::vector<std::unique_ptr<ForceModel>>(const ModelContext& context)> make;
+};
+
 // Factories use the spec and context during the call only (they keep no YamlEntry).
 using ForceModelFactory =
     std::function<std::unique_ptr<ForceModel>(const YamlEntry& spec, const ModelContext& context)>;
@@ -113,15 +123,17 @@ struct UnknownNameError : std::invalid_argument {
 class Registry {
  public:
   // Each throws std::logic_error for an empty name, a missing factory, a repeated key or a
-  // name (or preset name) already registered in the same section: a programming error the
-  // first run of any test finds.
+  // name already registered in the same section (the presets of the models and the tissue
+  // presets are one section): a programming error the first run of any test finds.
   void add(ForceModelEntry entry);
   void add(LawEntry entry);
   void add(IntegratorEntry entry);
+  void add(TissuePreset preset);
 
   const std::vector<ForceModelEntry>& forceModels() const { return models_; }
   const std::vector<LawEntry>& laws() const { return laws_; }
   const std::vector<IntegratorEntry>& integrators() const { return integrators_; }
+  const std::vector<TissuePreset>& tissuePresets() const { return tissues_; }
 
   // nullptr when unknown.
   const ForceModelEntry* findForceModel(const std::string& name) const;
@@ -132,7 +144,10 @@ class Registry {
   std::string forceModelNames() const;
   std::string lawNames() const;
   std::string integratorNames() const;
-  std::vector<std::string> presetNames() const;  // every preset of every model, in order
+  // Every preset: those of every model, in order, then the tissue presets, in order.
+  std::vector<std::string> presetNames() const;
+  // The presets of the models alone (each one force model), in order.
+  std::vector<std::string> modelPresetNames() const;
 
   // Scene entries {type: NAME, ...}: the type must be registered (else InputError at `type`
   // listing the known names) and every other key declared by the entry.
@@ -144,24 +159,36 @@ class Registry {
   // The law named by `entry` (a `law: NAME` value), or InputError listing the known laws.
   const LawEntry& law(const YamlEntry& entry) const;
 
-  // A preset by name; UnknownNameError listing the presets when there is none.
+  // A model's preset by name; UnknownNameError listing those presets when there is none (or
+  // the name is a tissue preset's).
   std::unique_ptr<ForceModel> makePreset(const std::string& name,
                                          const ModelContext& context) const;
+  // Any preset by name as its list of force models (one for a model's preset);
+  // UnknownNameError listing every preset when there is none.
+  std::vector<std::unique_ptr<ForceModel>> makePresetModels(const std::string& name,
+                                                            const ModelContext& context) const;
 
  private:
   std::vector<ForceModelEntry> models_;
   std::vector<LawEntry> laws_;
   std::vector<IntegratorEntry> integrators_;
+  std::vector<TissuePreset> tissues_;
 };
 
 // The registry of the built-in models, laws and integrators, filled on first use (thread-safe)
 // by registerBuiltIns.
 const Registry& registry();
 
-// A force model preset (see ModelPreset) over a mesh and its materials, outside a scene
+// A model's preset (see ModelPreset) over a mesh and its materials, outside a scene
 // (benchmarks, tests, tissue_cli forces --model); UnknownNameError listing the presets.
 std::unique_ptr<ForceModel> makeElasticModel(const std::string& preset, const Mesh& mesh,
                                              const std::vector<Material>& materials);
+
+// Any preset (a model's or a tissue's) as its force models over a mesh and its materials, outside
+// a scene; UnknownNameError listing every preset.
+std::vector<std::unique_ptr<ForceModel>> makePresetModels(const std::string& preset,
+                                                          const Mesh& mesh,
+                                                          const std::vector<Material>& materials);
 
 // Calls every registration function (src/core/scene/builtin_registrations.cpp).
 void registerBuiltIns(Registry& registry);

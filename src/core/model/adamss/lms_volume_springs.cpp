@@ -88,8 +88,12 @@ double LmsVolumeSpringModel::addForce(const Eigen::VectorXd& x, const Eigen::Vec
 
 double LmsVolumeSpringModel::energy(const Eigen::VectorXd& x) const {
   if (!parameters_.gradient) return 0.0;
-  Eigen::VectorXd unused = Eigen::VectorXd::Zero(x.size());
-  return addForce(x, x, unused);
+  double energy = 0.0;  // the sum addForce returns, without a force vector to fill
+  for (std::size_t e = 0; e < tets_.size(); ++e) {
+    const double strain = lengthSum(gatherTet(x, tets_[e])) - restLengthSum_[e];
+    energy += 0.5 * stiffness_[e] * strain * strain;
+  }
+  return energy;
 }
 
 }  // namespace adamss

@@ -40,12 +40,12 @@
 #include <string>
 #include <vector>
 
-#include "common/adamss_bench_models.h"
 #include "experiment_support.h"
 #include "tissue_trainer/core/integrate/abm3.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/integrate/explicit_euler.h"
 #include "tissue_trainer/core/model/gravity.h"
+#include "tissue_trainer/core/registry/registry.h"
 #include "tissue_trainer/core/solve/equilibrium.h"
 
 namespace tt {
@@ -210,9 +210,11 @@ constexpr double kResolutionLoad = 1.0;  // m/s^2 along -x
 ResolutionRow bendSprings(int n) {
   ResolutionRow row;
   row.cellsAcross = n;
+  // E = 10 kPa, nu = 0: the preset's springs are Table 2.2's, without the volume term.
   System s(heldCuboid(Eigen::Vector3i(n, n, 2 * n), kResolutionSize, 0.0),
-           {Material::isotropic(1.0, 0.0, kDensity)});
-  adamss_bench::addModel(s, "adamss_springs");
+           {Material::isotropic(10e3, 0.0, kDensity)});
+  for (auto& m : makePresetModels("adamss_springs", s.mesh, s.materials))
+    s.models.push_back(std::move(m));
   s.models.push_back(
       std::make_unique<GravityModel>(s.mass, Eigen::Vector3d(-kResolutionLoad, 0, 0)));
   s.updateConstraints();
