@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "tissue_trainer/core/error.h"
+#include "tissue_trainer/core/registry/registry.h"
 #include "tissue_trainer/core/scene/scene.h"
 
 namespace tt {
@@ -64,6 +65,27 @@ inline void expectEachFileFailsClearly(const std::vector<BadScene>& cases,
 inline void expectEachSceneFailsClearly(const std::vector<BadScene>& cases,
                                         const std::string& fileName) {
   expectEachFileFailsClearly(cases, fileName, [](const std::string& path) { loadScene(path); });
+}
+
+// The integrator entry "type: TYPE" followed by `keys` (one per line; line 2 is the first), as
+// read from the file named `file` (a constant of the test: the entry refers to it).
+inline YamlEntry integratorEntry(const std::string& type, const std::string& keys,
+                                 const std::string& file) {
+  static std::vector<YAML::Node> kept;  // YamlEntry refers to its node
+  kept.push_back(YAML::Load("type: " + type + "\n" + keys));
+  return YamlEntry(kept.back(), "integrator", &file);
+}
+
+// The InputError line of making that integrator; "" when it is made.
+inline std::string integratorErrorOf(const std::string& type, const std::string& keys,
+                                     const std::string& file) {
+  Notes notes;
+  try {
+    registry().makeIntegrator(integratorEntry(type, keys, file), notes);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
 }
 
 }  // namespace testutil

@@ -18,11 +18,8 @@ namespace {
 
 const std::string kKeysFile = "linear_keys.yaml";
 
-// The integrator entry "type: TYPE" followed by `keys` (one per line; line 2 is the first).
 YamlEntry keysEntry(const std::string& type, const std::string& keys) {
-  static std::vector<YAML::Node> kept;  // YamlEntry refers to its node
-  kept.push_back(YAML::Load("type: " + type + "\n" + keys));
-  return YamlEntry(kept.back(), "integrator", &kKeysFile);
+  return testutil::integratorEntry(type, keys, kKeysFile);
 }
 
 LinearSolveSettings linearSettingsOf(const std::string& type, const std::string& keys,
@@ -36,13 +33,7 @@ LinearSolveSettings linearSettingsOf(const std::string& type, const std::string&
 }
 
 std::string errorOf(const std::string& type, const std::string& keys) {
-  Notes notes;
-  try {
-    registry().makeIntegrator(keysEntry(type, keys), notes);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return testutil::integratorErrorOf(type, keys, kKeysFile);
 }
 
 TEST(LinearSolveKeys, EachKeyReachesTheSettings) {

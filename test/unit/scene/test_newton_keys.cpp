@@ -20,11 +20,8 @@ namespace {
 
 const std::string kNewtonKeysFile = "newton_keys.yaml";
 
-// The integrator entry "type: TYPE" followed by `keys` (one per line; line 2 is the first).
 YamlEntry newtonKeysEntry(const std::string& type, const std::string& keys) {
-  static std::vector<YAML::Node> kept;  // YamlEntry refers to its node
-  kept.push_back(YAML::Load("type: " + type + "\n" + keys));
-  return YamlEntry(kept.back(), "integrator", &kNewtonKeysFile);
+  return testutil::integratorEntry(type, keys, kNewtonKeysFile);
 }
 
 // The Newton settings an integrator was made with (-1 where it has no such setting).
@@ -54,13 +51,7 @@ NewtonSettingsMade newtonSettingsOf(const std::string& type, const std::string& 
 }
 
 std::string newtonKeysErrorOf(const std::string& type, const std::string& keys) {
-  Notes notes;
-  try {
-    registry().makeIntegrator(newtonKeysEntry(type, keys), notes);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return testutil::integratorErrorOf(type, keys, kNewtonKeysFile);
 }
 
 TEST(NewtonKeys, EachIntegratorReadsTheSameNames) {
