@@ -53,14 +53,13 @@ void addWork(StepReport& total, const StepReport& piece, bool accepted) {
 
 }  // namespace
 
-void GuardStats::add(const StepReport& frame) {
-  if (!frame.guarded) return;
+void GuardStats::add(const GuardFrame& frame) {
   ++frames;
   halvings += frame.halvings;
   if (!frame.ok) ++failures;
   else if (frame.halvings > 0) ++recoveries;
   if (frame.cutShort) ++cutShort;
-  if (!frame.guardReason.empty()) lastReason = frame.guardReason;
+  if (!frame.reason.empty()) lastReason = frame.reason;
 }
 
 StabilityGuard::StabilityGuard(std::unique_ptr<Integrator> inner, StabilityGuardParams params)
@@ -75,12 +74,13 @@ StepReport StabilityGuard::advance(System& system, double frameTime) {
   frameClock_ = now();
   prepare(system);
   StepReport report;
-  report.guarded = true;
+  GuardFrame& guard = lastFrame_;
+  guard = GuardFrame{};
   const Eigen::Index badLoad = firstNonFinite(system.externalForce);
   if (badLoad >= 0) {  // no step can help: fail before touching the state
-    report.guardReason = "non-finite external force at " + dofName(system.mesh, badLoad) +
-                         format(" at t = %.9g s", system.state.t);
-    report.failure = "stability guard: " + report.guardReason + "; state kept";
+    guard.reason = "non-finite external force at " + dofName(system.mesh, badLoad) +
+                   format(" at t = %.9g s", system.state.t);
+    report.failure = "stability guard: " + guard.reason + "; state kept";
     report.ok = false;
   } else {
     startFrame(system);
@@ -90,20 +90,20 @@ StepReport StabilityGuard::advance(System& system, double frameTime) {
       addWork(report, work, problem.empty());
       if (problem.empty()) {
         carryExcess();
-        keepDepth(depth, report.halvings > 0);
+        keepDepth(depth, guard.halvings > 0);
         measured_ = system.state;  // where end_ was measured
         if (!std::isnan(cutShortAt_)) {
-          report.cutShort = true;
-          report.guardReason = format("frame cut short for the wall-time budget at t = %.9g s "
-                                      "(steps of 1/%.0f)", cutShortAt_, double(1 << depth));
+          guard.cutShort = true;
+          guard.reason = format("frame cut short for the wall-time budget at t = %.9g s "
+                                "(steps of 1/%.0f)", cutShortAt_, double(1 << depth));
         }
         break;
       }
       system.state = frameStart_;
-      if (!stoppedForBudget_) report.guardReason = problem;
+      if (!stoppedForBudget_) guard.reason = problem;
       const std::string spent = budgetSpent();
       if (depth >= params_.maxHalvings || !spent.empty()) {
-        report.failure = "stability guard: " + report.guardReason + ", still failing after " +
+        report.failure = "stability guard: " + guard.reason + ", still failing after " +
                          std::to_string(depth) + " halvings (steps of 1/" +
                          std::to_string(1 << depth) + ")" + (spent.empty() ? "" : "; " + spent) +
                          "; state restored";
@@ -121,12 +121,13 @@ StepReport StabilityGuard::advance(System& system, double frameTime) {
         forgetCarried();
         break;
       }
-      ++report.halvings;
+      ++guard.halvings;
     }
     inner_->setStepDivisor(1);
   }
   report.wallSeconds = now() - frameClock_;
-  stats_.add(report);
+  guard.ok = report.ok;
+  stats_.add(guard);
   return report;
 }
 
@@ -369,6 +370,10 @@ void StabilityGuard::measureEnergies(const System& system, Balance& b) {
 Integrator& unguarded(Integrator& integrator) {
   auto* guard = dynamic_cast<StabilityGuard*>(&integrator);
   return guard ? guard->inner() : integrator;
+}
+
+const StabilityGuard* guardOf(const Integrator& integrator) {
+  return dynamic_cast<const StabilityGuard*>(&integrator);
 }
 
 }  // namespace tt

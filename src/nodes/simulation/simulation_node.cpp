@@ -338,7 +338,9 @@ void SimulationNode::step(const ros::SteadyTimerEvent&) {
   const double stepTaken = system.state.t - startTime;
   frameClock_->advanced(stepTaken);
   ++step_;
-  guard_.add(report);
+  const tt::StabilityGuard* guard = tt::guardOf(*scene_.integrator);
+  const tt::GuardFrame guardFrame = guard ? guard->lastFrame() : tt::GuardFrame{};
+  if (guard) guard_.add(guardFrame);
   if (!report.ok) {
     ++failures_;
     ++failingSteps_;
@@ -354,9 +356,9 @@ void SimulationNode::step(const ros::SteadyTimerEvent&) {
     ROS_INFO("simulation stable again after %lu failed steps",
              static_cast<unsigned long>(failingSteps_));
     failingSteps_ = 0;
-  } else if (report.halvings > 0) {
+  } else if (guardFrame.halvings > 0) {
     ROS_WARN_THROTTLE(5.0, "stability guard: %ld steps recovered by halving so far; last: %s",
-                      guard_.recoveries, report.guardReason.c_str());
+                      guard_.recoveries, guardFrame.reason.c_str());
   }
   stable_ = report.ok;
 
@@ -495,8 +497,9 @@ void SimulationNode::publishStatus(const tt::StepReport& report, double stepWall
   msg.strained_volume = strain.strainedVolume;
   msg.stable = report.ok;
   msg.failure = report.failure;
-  msg.guard_enabled = report.guarded;
-  msg.guard_step_halvings = report.halvings;
+  const tt::StabilityGuard* guard = tt::guardOf(*scene_.integrator);
+  msg.guard_enabled = guard != nullptr;
+  msg.guard_step_halvings = guard ? guard->lastFrame().halvings : 0;
   msg.guard_recoveries = guard_.recoveries;
   msg.guard_halvings = guard_.halvings;
   msg.guard_failures = guard_.failures;

@@ -177,9 +177,9 @@ void frameOf(Copy& copy) {
   const tt::StepReport report = copy.integrator->advance(system, copy.scene.frameTime);
   if (copy.surface) copy.surface->positions(system.state.x, copy.surfacePositions);
   copy.linearIterations += report.linearIterations;
-  if (report.halvings > 0) ++copy.recovered;
-  if (!report.ok && copy.failure.empty())
-    copy.failure = report.failure.empty() ? report.guardReason : report.failure;
+  const tt::StabilityGuard* guard = tt::guardOf(*copy.integrator);
+  if (guard && guard->lastFrame().halvings > 0) ++copy.recovered;
+  if (!report.ok && copy.failure.empty()) copy.failure = report.failure;
 }
 
 void timedFrame(Copy& copy) {

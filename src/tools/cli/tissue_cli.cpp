@@ -223,9 +223,9 @@ int run(const Arguments& args) {
                   "max_disp=%.4g m  step=%.3g ms\n",
                   f.frame, total, f.time, f.kineticEnergy, f.elasticEnergy, f.volumeRatio,
                   f.maxDisplacement, 1e3 * f.step.wallSeconds);
-    if (f.step.ok && !f.step.guardReason.empty())
+    if (f.step.ok && !f.guard.reason.empty())
       std::printf("frame %d: guard recovered with %d halvings from: %s\n", f.frame,
-                  f.step.halvings, f.step.guardReason.c_str());
+                  f.guard.halvings, f.guard.reason.c_str());
   };
   options.stopRequested = [] { return interruptSignal != 0; };
   const tt::RunSummary summary = tt::runScene(scene, options);

@@ -180,15 +180,18 @@ TEST(StabilityGuard, LaterFramesKeepTheShorterStepAndTryALongerOneAfterRelaxAfte
   p.relaxAfter = 3;
   StabilityGuard guard(std::make_unique<ExplicitEulerIntegrator>(ExplicitEulerParams{kFrame, true}), p);
   const StepReport first = guard.advance(*s, kFrame);
+  const GuardFrame firstGuard = guard.lastFrame();
   ASSERT_TRUE(first.ok) << first.failure;
-  ASSERT_GT(first.halvings, 0);
+  ASSERT_GT(firstGuard.halvings, 0);
   for (int f = 1; f <= 3; ++f) {  // no rollback, the step that passed
     const StepReport r = guard.advance(*s, kFrame);
-    EXPECT_EQ(r.halvings, 0) << "frame " << f << ": " << r.guardReason;
+    const GuardFrame rGuard = guard.lastFrame();
+    EXPECT_EQ(rGuard.halvings, 0) << "frame " << f << ": " << rGuard.reason;
     EXPECT_EQ(r.lastStep, first.lastStep) << "frame " << f;
   }
   const StepReport relaxed = guard.advance(*s, kFrame);  // tries twice the step: unstable
-  EXPECT_EQ(relaxed.halvings, 1) << relaxed.guardReason;
+  const GuardFrame relaxedGuard = guard.lastFrame();
+  EXPECT_EQ(relaxedGuard.halvings, 1) << relaxedGuard.reason;
   EXPECT_EQ(relaxed.lastStep, first.lastStep);
   EXPECT_EQ(guard.stats().recoveries, 2);
 }
@@ -225,6 +228,7 @@ TEST(StabilityGuard, InvertedTetOfAModelThatCannotTakeItFailsTheFrameNamingTheTe
   const State before = s->state;
   StabilityGuard guard(std::make_unique<BackwardEulerIntegrator>());
   const StepReport r = guard.advance(*s, kFrame);
+  const GuardFrame rGuard = guard.lastFrame();
   ASSERT_FALSE(r.ok);
   EXPECT_NE(r.failure.find("tet 1 inverted or flat"), std::string::npos) << r.failure;
   EXPECT_NE(r.failure.find("after 6 halvings"), std::string::npos) << r.failure;
@@ -232,8 +236,8 @@ TEST(StabilityGuard, InvertedTetOfAModelThatCannotTakeItFailsTheFrameNamingTheTe
   EXPECT_EQ(s->state.x, before.x);
   EXPECT_EQ(s->state.t, before.t);
   EXPECT_EQ(guard.stats().failures, 1);
-  EXPECT_EQ(guard.stats().halvings, r.halvings);
-  EXPECT_GE(r.halvings, 6);
+  EXPECT_EQ(guard.stats().halvings, rGuard.halvings);
+  EXPECT_GE(rGuard.halvings, 6);
 }
 
 TEST(StabilityGuard, MessageNamesTheTetByItsFileNumberInAReorderedMesh) {
@@ -260,8 +264,9 @@ TEST(StabilityGuard, LinearModelToleratesTheSameInversion) {
   auto s = pushThrough(true);
   StabilityGuard guard(std::make_unique<BackwardEulerIntegrator>());
   const StepReport r = guard.advance(*s, kFrame);
+  const GuardFrame rGuard = guard.lastFrame();
   EXPECT_TRUE(r.ok) << r.failure;
-  EXPECT_EQ(r.halvings, 0);
+  EXPECT_EQ(rGuard.halvings, 0);
   EXPECT_LT(tetVolume(Eigen::Map<const Eigen::Matrix3Xd>(s->state.x.data(), 3, 5), s->mesh.tets[1]), 0.0);
 }
 
@@ -272,10 +277,11 @@ TEST(StabilityGuard, NonFiniteExternalForceIsUnrecoverableAndRestoresTheState) {
   const State good = s->state;
   s->externalForce[3 * 20 + 1] = std::numeric_limits<double>::quiet_NaN();
   const StepReport r = guard.advance(*s, kFrame);
+  const GuardFrame rGuard = guard.lastFrame();
   ASSERT_FALSE(r.ok);
   EXPECT_NE(r.failure.find("stability guard: non-finite external force at DOF 61 (node 20 y)"),
             std::string::npos) << r.failure;
-  EXPECT_EQ(r.halvings, 0);  // halving cannot help: no retries
+  EXPECT_EQ(rGuard.halvings, 0);  // halving cannot help: no retries
   EXPECT_EQ(s->state.x, good.x);
   EXPECT_EQ(s->state.v, good.v);
   EXPECT_EQ(s->state.t, good.t);
@@ -303,10 +309,11 @@ TEST(StabilityGuard, NonFiniteStateIsCaughtEvenWhenTheIntegratorReportsSuccess) 
   auto s = stiffBlock();
   StabilityGuard guard(std::make_unique<SpoilsLongSteps>());
   const StepReport r = guard.advance(*s, kFrame);
+  const GuardFrame rGuard = guard.lastFrame();
   EXPECT_TRUE(r.ok) << r.failure;
-  EXPECT_EQ(r.halvings, 3);  // 10 ms, 5 ms and 2.5 ms pieces spoilt; 1.25 ms ones not
-  EXPECT_NE(r.guardReason.find("non-finite velocity at DOF 62 (node 20 z)"), std::string::npos)
-      << r.guardReason;
+  EXPECT_EQ(rGuard.halvings, 3);  // 10 ms, 5 ms and 2.5 ms pieces spoilt; 1.25 ms ones not
+  EXPECT_NE(rGuard.reason.find("non-finite velocity at DOF 62 (node 20 z)"), std::string::npos)
+      << rGuard.reason;
   EXPECT_TRUE(s->state.x.allFinite() && s->state.v.allFinite());
   EXPECT_NEAR(s->state.t, kFrame, 1e-15);
 }
@@ -348,8 +355,9 @@ TEST(StabilityGuard, AWallTimeBudgetEndsTheRetriesOfAFrameThatCannotBeMadeStable
   StabilityGuard unlimited(std::make_unique<SlowAndSpoilsTheFrameEnd>(clock),
                            withClock(clock, 0.0));
   const StepReport all = unlimited.advance(*s, kFrame);
+  const GuardFrame allGuard = unlimited.lastFrame();
   EXPECT_FALSE(all.ok);
-  EXPECT_EQ(all.halvings, 6);  // 1 + 2 + ... + 64 = 127 pieces of 4 ms
+  EXPECT_EQ(allGuard.halvings, 6);  // 1 + 2 + ... + 64 = 127 pieces of 4 ms
   EXPECT_NEAR(all.wallSeconds, 127 * kPieceWallTime, 1e-9);
 
   const StabilityGuardParams p = withClock(clock, 3 * kFrame);  // three frame periods
@@ -357,12 +365,13 @@ TEST(StabilityGuard, AWallTimeBudgetEndsTheRetriesOfAFrameThatCannotBeMadeStable
   SlowAndSpoilsTheFrameEnd& calls = *slow;
   StabilityGuard budgeted(std::move(slow), p);
   const StepReport r = budgeted.advance(*s, kFrame);
+  const GuardFrame rGuard = budgeted.lastFrame();
   ASSERT_FALSE(r.ok);
-  EXPECT_LT(r.halvings, 6);
+  EXPECT_LT(rGuard.halvings, 6);
   EXPECT_LE(r.wallSeconds, p.wallBudget + kPieceWallTime + 1e-9);  // the budget, one more piece
   EXPECT_NE(r.failure.find("the frame's wall-time budget of 30 ms is spent"), std::string::npos)
       << r.failure;
-  EXPECT_NE(r.guardReason.find("non-finite velocity at DOF 0"), std::string::npos) << r.guardReason;
+  EXPECT_NE(rGuard.reason.find("non-finite velocity at DOF 0"), std::string::npos) << rGuard.reason;
   EXPECT_EQ(s->state.x, start.x);  // the last good state is kept
   EXPECT_EQ(s->state.v, start.v);
   EXPECT_EQ(s->state.t, start.t);
@@ -371,7 +380,7 @@ TEST(StabilityGuard, AWallTimeBudgetEndsTheRetriesOfAFrameThatCannotBeMadeStable
   calls.pieces.clear();
   budgeted.advance(*s, kFrame);
   ASSERT_FALSE(calls.pieces.empty());
-  EXPECT_NEAR(calls.pieces.front(), kFrame / (1 << (r.halvings + 1)), 1e-15);
+  EXPECT_NEAR(calls.pieces.front(), kFrame / (1 << (rGuard.halvings + 1)), 1e-15);
 }
 
 // Takes 4 ms per call on the simulated wall clock and spoils only a whole-frame step: the frame
@@ -399,16 +408,18 @@ TEST(StabilityGuard, ABudgetInTypicalStepsLetsASlowFrameBeHalved) {
   double clock = 0.0;
   StabilityGuard fixed(std::make_unique<SlowAndSpoilsWholeFrames>(clock), withClock(clock, kFixedBudget));
   const StepReport failed = fixed.advance(*fixedOnly, kFrame);
+  const GuardFrame failedGuard = fixed.lastFrame();
   EXPECT_FALSE(failed.ok);
-  EXPECT_EQ(failed.halvings, 0);
+  EXPECT_EQ(failedGuard.halvings, 0);
   EXPECT_NE(failed.failure.find("wall-time budget of 1 ms is spent"), std::string::npos) << failed.failure;
 
   StabilityGuardParams p = withClock(clock, kFixedBudget);
   p.wallBudgetSteps = 3.0;
   StabilityGuard steps(std::make_unique<SlowAndSpoilsWholeFrames>(clock), p);
   const StepReport halved = steps.advance(*scaled, kFrame);
+  const GuardFrame halvedGuard = steps.lastFrame();
   EXPECT_TRUE(halved.ok) << halved.failure;
-  EXPECT_EQ(halved.halvings, 1);
+  EXPECT_EQ(halvedGuard.halvings, 1);
   EXPECT_NEAR(scaled->state.t, kFrame, 1e-15);
   EXPECT_NEAR(steps.wallBudget(), 3 * kPieceWallTime, 1e-12);  // every piece took 4 ms
   EXPECT_NEAR(halved.wallSeconds, 3 * kPieceWallTime, 1e-9);   // 1 + 2 pieces
@@ -429,16 +440,17 @@ TEST(StabilityGuard, AFrameThatStartsDeepEndsEarlyWithinTheBudgetAndKeepsItsPiec
   for (int frame = 0; frame < 3; ++frame) {
     calls.pieces.clear();
     const StepReport r = guard.advance(*s, kFrame);
+    const GuardFrame rGuard = guard.lastFrame();
     ASSERT_TRUE(r.ok) << r.failure;
     const int deep = static_cast<int>(std::lround(kFrame / calls.pieces.front()));
     ASSERT_GE(deep, 16);  // 16 pieces of 4 ms and more: beyond the 30 ms budget
-    EXPECT_TRUE(r.cutShort);
+    EXPECT_TRUE(rGuard.cutShort);
     EXPECT_LT(calls.pieces.size(), static_cast<size_t>(deep));
     EXPECT_LE(r.wallSeconds, p.wallBudget + kPieceWallTime + 1e-9);  // the budget, one more piece
     EXPECT_NEAR(s->state.t - t, calls.pieces.size() * calls.pieces.front(), 1e-15);
-    EXPECT_NE(r.guardReason.find("frame cut short for the wall-time budget"), std::string::npos)
-        << r.guardReason;
-    EXPECT_EQ(r.halvings, 0);
+    EXPECT_NE(rGuard.reason.find("frame cut short for the wall-time budget"), std::string::npos)
+        << rGuard.reason;
+    EXPECT_EQ(rGuard.halvings, 0);
     t = s->state.t;
   }
   EXPECT_GT(s->state.t, 0.0);
@@ -453,6 +465,7 @@ TEST(StabilityGuard, NoHalvingsAllowedFailsAtOnceWithTheCheckAndRestores) {
   StabilityGuard guard(std::make_unique<ExplicitEulerIntegrator>(ExplicitEulerParams{kFrame, true}), p);
   const State start = s->state;
   const StepReport r = guard.advance(*s, kFrame);
+  const GuardFrame rGuard = guard.lastFrame();
   ASSERT_FALSE(r.ok);
   EXPECT_EQ(r.failure.rfind("stability guard: energy grew by ", 0), 0u) << r.failure;
   EXPECT_NE(r.failure.find("in t = [0, 0.01] s, still failing after 0 halvings"),
@@ -462,7 +475,7 @@ TEST(StabilityGuard, NoHalvingsAllowedFailsAtOnceWithTheCheckAndRestores) {
   EXPECT_EQ(s->state.x, start.x);
   EXPECT_EQ(s->state.v, start.v);
   EXPECT_EQ(s->state.t, start.t);
-  EXPECT_EQ(r.halvings, 0);
+  EXPECT_EQ(rGuard.halvings, 0);
   EXPECT_EQ(guard.stats().failures, 1);
   EXPECT_EQ(guard.stats().recoveries, 0);
 }
@@ -482,7 +495,8 @@ void expectIdentical(std::unique_ptr<Integrator> a, std::unique_ptr<Integrator> 
   for (int f = 0; f < frames; ++f) {
     const StepReport plain = a->advance(*s1, kFrame);
     const StepReport guarded = guard.advance(*s2, kFrame);
-    ASSERT_TRUE(plain.ok && guarded.ok) << guarded.failure << guarded.guardReason;
+    const GuardFrame guardedGuard = guard.lastFrame();
+    ASSERT_TRUE(plain.ok && guarded.ok) << guarded.failure << guardedGuard.reason;
     EXPECT_EQ(guarded.substeps, plain.substeps);
   }
   EXPECT_EQ(s1->state.x, s2->state.x) << guard.name();

@@ -19,11 +19,6 @@ struct StepReport {
   double wallSeconds = 0.0;
   bool ok = true;            // false: the step failed (non-finite state, no convergence)
   std::string failure;       // why, when !ok
-  // Filled by StabilityGuard (stability_guard.h); left as is without one.
-  bool guarded = false;      // the guard checked this frame
-  int halvings = 0;          // times the guard rolled this frame back and halved the step
-  std::string guardReason;   // the last problem the guard found in this frame (recovered or not)
-  bool cutShort = false;     // the guard ended the frame early for its wall-time budget
 };
 
 class Integrator {

@@ -55,7 +55,7 @@
 // next frame starts with one halving more than the last attempt (a frame too slow to be
 // retried within the budget then still gets its shorter steps, one frame later). The frame's
 // first attempt, when it runs out of budget between its pieces, keeps the pieces it made (each
-// checked) and ends the frame there, before its end time (StepReport::cutShort): a frame that
+// checked) and ends the frame there, before its end time (GuardFrame::cutShort): a frame that
 // starts deep costs the budget and one piece, and the simulation falls behind the wall clock
 // instead of stalling, until the frames that pass at once have relaxed the step again.
 //
@@ -89,7 +89,15 @@ struct StabilityGuardParams {
   std::function<double()> wallClock;
 };
 
-// What a guard did, summed over frames (StabilityGuard::stats, or add() over the reports).
+// What the guard did in the frame it advanced last (StabilityGuard::lastFrame).
+struct GuardFrame {
+  bool ok = true;          // the frame passed, at once or after halvings
+  int halvings = 0;        // times the guard rolled the frame back and halved the step
+  std::string reason;      // the last problem found in the frame (recovered or not)
+  bool cutShort = false;   // the frame ended early for the wall-time budget
+};
+
+// What a guard did, summed over frames (StabilityGuard::stats, or add() over the frames).
 struct GuardStats {
   long frames = 0;         // frames checked
   long recoveries = 0;     // frames that passed only after rolling back and halving
@@ -98,7 +106,7 @@ struct GuardStats {
   long cutShort = 0;       // frames ended early for the wall-time budget
   std::string lastReason;  // the last problem found (recovered or not)
 
-  void add(const StepReport& frame);
+  void add(const GuardFrame& frame);
 };
 
 class StabilityGuard : public Integrator {
@@ -118,6 +126,7 @@ class StabilityGuard : public Integrator {
   // The frame's budget now: max(wallBudget, wallBudgetSteps x the typical piece); 0: none.
   double wallBudget() const;
   const GuardStats& stats() const { return stats_; }
+  const GuardFrame& lastFrame() const { return lastFrame_; }
 
  private:
   // What the energy check needs from one instant.
@@ -168,6 +177,7 @@ class StabilityGuard : public Integrator {
   std::unique_ptr<Integrator> inner_;
   StabilityGuardParams params_;
   GuardStats stats_;
+  GuardFrame lastFrame_;
   const System* prepared_ = nullptr;
   CorruptElementCheck corruptCheck_;  // the mesh's tets, and each hex through its splits
   std::size_t preparedElements_ = 0;  // tets + hexes when corruptCheck_ was built
@@ -191,5 +201,7 @@ class StabilityGuard : public Integrator {
 
 // The integrator a guard wraps, or `integrator` itself when it is not a guard.
 Integrator& unguarded(Integrator& integrator);
+// The guard `integrator` is, or nullptr when it runs unguarded.
+const StabilityGuard* guardOf(const Integrator& integrator);
 
 }  // namespace tt

@@ -25,6 +25,7 @@ struct FrameLog {
   double volume = 0.0;                // deformed volume of every tet and hex (m^3)
   std::vector<double> observables;  // the models' observables in scene order (ForceModel)
   StepReport step;
+  GuardFrame guard;  // what the stability guard did in the frame (nothing without one)
 };
 
 struct RunOptions {
