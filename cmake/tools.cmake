@@ -5,12 +5,17 @@
 # each linked with the core; TT_TOOLS lists them. Included by the catkin build (CMakeLists.txt)
 # and by the standalone build (test/standalone, TT_BUILD_TOOLS=ON), after cmake/core.cmake.
 set(TT_TOOLS "")
-# What the programs share (src/tools/common): the command line, and headers included as
-# "common/NAME.h".
-file(GLOB TT_TOOLS_COMMON_SOURCES CONFIGURE_DEPENDS "${TT_ROOT}/src/tools/common/*.cpp")
+# What the programs share, compiled once (src/tools/common, included as "common/NAME.h"): the
+# command line, clocks and option lists, the liver and muscle scenes, and the work-precision
+# problems with their CSV rows (common/work_precision/).
+file(GLOB TT_TOOLS_COMMON_SOURCES CONFIGURE_DEPENDS "${TT_ROOT}/src/tools/common/*.cpp"
+     "${TT_ROOT}/src/tools/common/work_precision/*.cpp")
 add_library(tt_tools_common STATIC ${TT_TOOLS_COMMON_SOURCES})
 target_include_directories(tt_tools_common PUBLIC "${TT_ROOT}/src/tools")
+target_link_libraries(tt_tools_common PUBLIC tissue_trainer_core)
 target_compile_options(tt_tools_common PRIVATE -Wall -Wextra)
+# Where the repository's config/ is when $TT_SOURCE_DIR does not say (liver_bench_scene.cpp).
+target_compile_definitions(tt_tools_common PRIVATE TT_SOURCE_ROOT="${TT_ROOT}")
 file(GLOB TT_TOOL_SOURCES CONFIGURE_DEPENDS "${TT_ROOT}/src/tools/cli/*.cpp"
      "${TT_ROOT}/src/tools/bench/*.cpp" "${TT_ROOT}/src/tools/repro/*.cpp")
 foreach(src ${TT_TOOL_SOURCES})

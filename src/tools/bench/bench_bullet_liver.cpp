@@ -57,7 +57,7 @@
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/parallel.h"
 #include "tissue_trainer/core/scene/scene.h"
-#include "liver_bench_scene.h"
+#include "common/liver_bench_scene.h"
 
 namespace {
 
@@ -108,7 +108,8 @@ double relativeDifference(const Eigen::VectorXd& a, const Eigen::VectorXd& b,
 Start prepareStart(const Options& o) {
   const fs::path helper = fs::read_symlink("/proc/self/exe").parent_path() / "bench_bullet_liver_state";
   const fs::path dir = fs::path(o.work) / o.tetgen;
-  const std::string command = "'" + helper.string() + "' '" + dir.string() + "' '" + o.tetgen + "'";
+  const std::string command =
+      "'" + helper.string() + "' --out '" + dir.string() + "' --tetgen '" + o.tetgen + "'";
   if (std::system(command.c_str()) != 0) throw std::runtime_error("failed: " + command);
   std::ifstream in(dir / "state.txt");
   Start s;

@@ -14,7 +14,7 @@
 //   scene PATH
 //   nodes N
 //   x y z fx fy fz          (N lines, m and N)
-//   bench_bullet_liver_state DIR SWITCHES
+//   bench_bullet_liver_state --out DIR --tetgen SWITCHES
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
@@ -26,12 +26,13 @@
 #include <string>
 #include <vector>
 
+#include "common/command_line.h"
+#include "common/liver_bench_scene.h"
 #include "tissue_trainer/core/contact/tissue_contact.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
 #include "tissue_trainer/core/mesh/mesh_io.h"
 #include "tissue_trainer/core/parallel.h"
 #include "tissue_trainer/core/scene/scene.h"
-#include "liver_bench_scene.h"
 
 namespace {
 
@@ -102,12 +103,15 @@ int run(const fs::path& dir, const std::string& switches) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 3) {
-    std::fprintf(stderr, "usage: bench_bullet_liver_state DIR SWITCHES (TetGen, e.g. q1.4a0.1, or none)\n");
-    return 2;
-  }
+  tt::tools::CommandLine args(argc, argv,
+                              "bench_bullet_liver_state --out DIR --tetgen SWITCHES (TetGen's, "
+                              "e.g. q1.4a0.1, or none)");
+  const std::string out = args.text("--out", "");
+  const std::string tetgen = args.text("--tetgen", "");
+  args.finish();
+  if (out.empty() || tetgen.empty()) args.fail("--out and --tetgen are required");
   try {
-    return run(argv[1], argv[2]);
+    return run(out, tetgen);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_bullet_liver_state: %s\n", e.what());
     return 1;

@@ -67,9 +67,9 @@
 #include "common/command_line.h"
 #include "bullet_deformable.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
+#include "common/work_precision/csv.h"
+#include "common/work_precision/problem.h"
 #include "tissue_trainer/core/parallel.h"
-#include "work_precision_csv.h"
-#include "work_precision_problems.h"
 
 namespace {
 
@@ -228,18 +228,12 @@ int main(int argc, char** argv) {
   const Options o = parseOptions(argc, argv);
   setThreadCount(1);
 
-  std::vector<std::unique_ptr<Problem>> problems;
-  problems.push_back(std::make_unique<CantileverStatic>());
-  problems.push_back(std::make_unique<CantileverVibration>());
-  auto large = std::make_unique<BeamLargeDeflection>();
-  if (o.quick) large->referenceTolerance = 1e-6;
-  problems.push_back(std::move(large));
-  std::vector<std::string> names;
-  for (const auto& p : problems) names.push_back(p->name);
+  const std::vector<std::string> names = {"cantilever_static", "cantilever_vibration",
+                                          "beam_large_deflection"};
   bench::requireKnown("bench_bullet_peer", "problem", o.problems, names);
-  problems.erase(std::remove_if(problems.begin(), problems.end(),
-                                [&](const auto& p) { return !bench::selected(o.problems, p->name); }),
-                 problems.end());
+  std::vector<std::unique_ptr<Problem>> problems;
+  for (const std::string& name : names)
+    if (bench::selected(o.problems, name)) problems.push_back(makeProblem(name, o.quick));
   std::filesystem::create_directories(o.out);  // after the names were checked
 
   const std::string csvPath = o.out + "/bullet_peer.csv";

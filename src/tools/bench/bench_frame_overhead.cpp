@@ -41,7 +41,7 @@
 #include <vector>
 
 #include "common/command_line.h"
-#include "liver_bench_scene.h"
+#include "common/liver_bench_scene.h"
 #include "tissue_trainer/core/error.h"
 #include "tissue_trainer/core/mesh/corrupt_elements.h"
 #include "tissue_trainer/core/parallel.h"

@@ -42,7 +42,7 @@
 #include "tissue_trainer/core/mesh/mesh_io.h"
 #include "tissue_trainer/core/parallel.h"
 #include "tissue_trainer/core/scene/scene.h"
-#include "liver_bench_scene.h"
+#include "common/liver_bench_scene.h"
 
 namespace {
 

@@ -36,7 +36,7 @@
 #include <vector>
 
 #include "common/command_line.h"
-#include "liver_bench_scene.h"
+#include "common/liver_bench_scene.h"
 #include "tissue_trainer/core/contact/tissue_contact.h"
 #include "tissue_trainer/core/contact/tool_proxy.h"
 #include "tissue_trainer/core/integrate/stability_guard.h"

@@ -22,6 +22,7 @@
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/model/gravity.h"
 #include "tissue_trainer/core/parallel.h"
+#include "tissue_trainer/core/registry/registry.h"
 
 namespace {
 

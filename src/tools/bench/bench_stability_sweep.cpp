@@ -66,6 +66,7 @@
 #include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/model/activated_force_model.h"
+#include "tissue_trainer/core/registry/registry.h"
 
 namespace tt {
 namespace {

@@ -11,8 +11,9 @@
 //                             at a very tight tolerance
 //   4. patch                  affine boundary motion; error against the affine field
 //   5. uniaxial_stretch       a myocardium cube stretched 15 % along its fibres, for the two
-//                             Adamss tissue presets only (work_precision_adamss.h); error of
-//                             the end stress against the Hunter law
+//                             Adamss tissue presets only (common/work_precision/
+//                             uniaxial_stretch.cpp); error of the end stress against the
+//                             Hunter law
 //   6. muscle_contraction     a muscle block contracting to equilibrium at activation 0.5, for
 //                             the teran_muscle tissue presets only (work_precision_muscle.h);
 //                             error against the equilibrium of the same model
@@ -51,11 +52,10 @@
 #include "tissue_trainer/core/integrate/newtonian.h"
 #include "tissue_trainer/core/integrate/quasistatic.h"
 #include "tissue_trainer/core/integrate/rk4_adaptive.h"
+#include "common/work_precision/csv.h"
+#include "common/work_precision/problem.h"
 #include "tissue_trainer/core/parallel.h"
-#include "work_precision_csv.h"
-#include "work_precision_adamss.h"
-#include "work_precision_muscle.h"
-#include "work_precision_problems.h"
+#include "tissue_trainer/core/registry/registry.h"
 
 namespace {
 
@@ -379,25 +379,12 @@ Options parseOptions(int argc, char** argv) {
 }
 
 std::vector<std::unique_ptr<Problem>> makeProblems(const Options& o) {
-  std::vector<std::unique_ptr<Problem>> all;
-  all.push_back(std::make_unique<CantileverStatic>());
-  all.push_back(std::make_unique<CantileverVibration>());
-  auto beam = std::make_unique<BeamLargeDeflection>();
-  auto spindle = std::make_unique<SpindlePull>();
-  if (o.quick) beam->referenceTolerance = spindle->referenceTolerance = 1e-6;
-  all.push_back(std::move(beam));
-  all.push_back(std::move(spindle));
-  all.push_back(std::make_unique<PatchTest>());
-  auto stretch = std::make_unique<UniaxialStretch>();
-  if (o.quick) stretch->referenceTolerance = 1e-6;
-  all.push_back(std::move(stretch));
-  all.push_back(std::make_unique<MuscleContraction>());
   std::vector<std::string> names = {"cantilever_static_mesh"};  // the mesh-refinement runs
-  for (const auto& p : all) names.push_back(p->name);
+  for (const std::string& name : problemNames()) names.push_back(name);
   bench::requireKnown("bench_work_precision", "problem", o.problems, names);
   std::vector<std::unique_ptr<Problem>> chosen;
-  for (auto& p : all)
-    if (bench::selected(o.problems, p->name)) chosen.push_back(std::move(p));
+  for (const std::string& name : problemNames())
+    if (bench::selected(o.problems, name)) chosen.push_back(makeProblem(name, o.quick));
   return chosen;
 }
 

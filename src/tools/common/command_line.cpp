@@ -65,6 +65,18 @@ std::string CommandLine::text(const std::string& name, const std::string& fallba
   return value ? *value : fallback;
 }
 
+std::vector<std::string> CommandLine::texts(const std::string& name) {
+  known_.push_back(name);
+  std::vector<std::string> values;
+  for (std::size_t k = 0; k < args_.size(); ++k) {
+    if (args_[k] != name || used_[k]) continue;
+    if (k + 1 >= args_.size()) fail(name + " expects a value");
+    used_[k] = used_[k + 1] = true;
+    values.push_back(args_[k + 1]);
+  }
+  return values;
+}
+
 int CommandLine::positiveInteger(const std::string& name, int fallback) {
   const std::string* value = valueOf(name);
   if (!value) return fallback;

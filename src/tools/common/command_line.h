@@ -22,6 +22,8 @@ class CommandLine {
   bool flag(const std::string& name);
   // The value after `name`, or `fallback` when the option is absent.
   std::string text(const std::string& name, const std::string& fallback);
+  // The values after every occurrence of a repeatable option, in order (none: empty).
+  std::vector<std::string> texts(const std::string& name);
   int positiveInteger(const std::string& name, int fallback);
   double positiveNumber(const std::string& name, double fallback);
   // "a,b,c" after `name` as {a, b, c}; `fallback` when absent.

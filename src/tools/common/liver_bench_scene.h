@@ -3,59 +3,25 @@
 // liver_palpation.yaml) on another mesh of the same liver, and the pose that presses the
 // scripted operator's sphere into the liver's anterior face.
 #include <Eigen/Geometry>
-#include <algorithm>
-#include <cmath>
-#include <cstdio>
-#include <cstdlib>
-#include <fstream>
-#include <sstream>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "common/bench_support.h"
 #include "tissue_trainer/core/integrate/backward_euler.h"
-#include "tissue_trainer/core/mesh/mesh_io.h"
 #include "tissue_trainer/core/system.h"
 
 namespace tt {
 namespace bench {
 
 // The repository root: $TT_SOURCE_DIR, else the one the tool was built from.
-inline std::string sourceDir() {
-  if (const char* env = std::getenv("TT_SOURCE_DIR")) return env;
-  return TT_SOURCE_ROOT;
-}
+std::string sourceDir();
 
 // The q quantile of v (nearest rank); NaN for no values.
-inline double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5))];
-}
+double quantile(std::vector<double> v, double q);
 
 // liver.msh refined by TetGen to about `target` tets in workDir/liver_<target> (the volume
 // bound adjusted by the count it gives); "" when tetgen is missing or fails.
-inline std::string refinedLiver(const std::string& workDir, int target, int& tets) {
-  if (std::system("command -v tetgen > /dev/null 2>&1") != 0) return "";
-  const std::string dir = workDir + "/liver_" + std::to_string(target);
-  if (std::system(("mkdir -p " + dir).c_str()) != 0) return "";
-  writeMesh(dir + "/liver.node", readMesh(sourceDir() + "/config/meshes/liver.msh"));
-  // The quality bound adds tets of its own: on liver.msh the count goes about as a^-0.6 with
-  // the volume bound a (file units; 51,349 tets at a = 0.003), so a scales by ratio^1.7.
-  double volume = 0.003 * std::pow(51349.0 / target, 1.7);
-  for (int attempt = 0; attempt < 5; ++attempt) {
-    char cmd[512];
-    std::snprintf(cmd, sizeof cmd, "cd %s && tetgen -rq1.4a%.6gQ liver > tetgen.log 2>&1",
-                  dir.c_str(), volume);
-    if (std::system(cmd) != 0) return "";
-    tets = readMesh(dir + "/liver.1.ele").numTets();
-    const double ratio = static_cast<double>(tets) / target;
-    if (ratio > 0.85 && ratio < 1.15) break;
-    volume *= std::pow(ratio, 1.7);
-  }
-  return dir + "/liver.1.ele";
-}
+std::string refinedLiver(const std::string& workDir, int target, int& tets);
 
 // A change of the scene's text: `from` (which must be there) becomes `to`.
 struct SceneEdit {
@@ -64,48 +30,22 @@ struct SceneEdit {
 
 // Writes the palpation scene with `mesh` (an absolute path) for its liver to `path`, with
 // `edits` applied after; throws when the scene no longer holds the text one replaces.
-inline void writeLiverSceneWithMesh(const std::string& mesh, const std::string& path,
-                                    const std::vector<SceneEdit>& edits = {}) {
-  std::ifstream in(sourceDir() + "/config/scenes/liver_palpation.yaml");
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string scene = text.str();
-  const auto replace = [&scene](const std::string& from, const std::string& to) {
-    const size_t at = scene.find(from);
-    if (at == std::string::npos) throw std::runtime_error("liver_palpation.yaml has no '" + from + "'");
-    scene.replace(at, from.size(), to);
-  };
-  replace("file: ../meshes/liver.msh", "file: " + mesh);
-  replace("file: ../meshes/liver-smooth.obj", "file: " + sourceDir() + "/config/meshes/liver-smooth.obj");
-  for (const SceneEdit& e : edits) replace(e.from, e.to);
-  std::ofstream out(path);
-  out << scene;
-  if (!out) throw std::runtime_error("cannot write " + path);
-}
+void writeLiverSceneWithMesh(const std::string& mesh, const std::string& path,
+                             const std::vector<SceneEdit>& edits = {});
 
 // The reference of the benchmarks' step errors, and of the settling steps: Jacobi-PCG to 1e-10
 // (a Cholesky factor would need BiCGSTAB and thousands of iterations where the pressed liver's
 // matrix is indefinite).
-inline BackwardEulerParams tightBackwardEuler() { return jacobiBackwardEuler(1e-10, 20000); }
+BackwardEulerParams tightBackwardEuler();
 
 // Lets the liver sag to rest under gravity (3 s in steps of 0.1 s, solved tightly; the mass
 // damping and backward Euler's own damping settle it), then zeroes the velocity.
-inline void sagToRest(System& system, BackwardEulerIntegrator& settle) {
-  for (int s = 0; s < 30; ++s) settle.advance(system, 0.1);
-  system.state.v.setZero();
-}
+void sagToRest(System& system, BackwardEulerIntegrator& settle);
 
 // A sphere of `radius` pressed `depth` into the highest point (z) of the liver within 2 cm
 // (in x, y) of the trocar axis (x, y) = (-0.035, 0.075), from above as the scripted operator
 // presses it.
-inline Eigen::Isometry3d pressingPose(const System& system, double radius, double depth) {
-  Eigen::Vector3d top(-0.035, 0.075, -1e9);
-  for (int a = 0; a < system.numNodes(); ++a) {
-    const Eigen::Vector3d p = system.state.x.segment<3>(3 * a);
-    if (std::hypot(p.x() + 0.035, p.y() - 0.075) < 0.02 && p.z() > top.z()) top = p;
-  }
-  return Eigen::Isometry3d(Eigen::Translation3d(top + Eigen::Vector3d(0, 0, radius - depth)));
-}
+Eigen::Isometry3d pressingPose(const System& system, double radius, double depth);
 
 }  // namespace bench
 }  // namespace tt

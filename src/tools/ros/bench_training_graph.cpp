@@ -32,6 +32,7 @@
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/WrenchStamped.h>
 
+#include "common/command_line.h"
 #include "periodic_clock.h"
 #include "tissue_trainer/ContactModel.h"
 #include "tissue_trainer/HapticStatus.h"
@@ -51,40 +52,26 @@ struct Options {
   int trianglesEvery = 100;
 };
 
-bool parseOptions(int argc, char** argv, Options& o) {
-  if (argc < 2) return false;
-  o.mode = argv[1];
-  for (int i = 2; i < argc; i += 2) {
-    const std::string key = argv[i];
-    if (i + 1 == argc || std::string(argv[i + 1]).rfind("--", 0) == 0) {
-      std::fprintf(stderr, "bench_training_graph: %s expects a value\n", key.c_str());
-      return false;
-    }
-    const std::string value = argv[i + 1];
-    char* end = nullptr;
-    const double number = std::strtod(value.c_str(), &end);
-    const bool isNumber = end && *end == '\0' && std::isfinite(number) && number > 0.0;
-    if (key == "--csv") o.csv = value;
-    else if (key == "--label") o.label = value;
-    else if (!isNumber) {
-      std::fprintf(stderr, "bench_training_graph: %s expects a positive number, got '%s'\n",
-                   key.c_str(), value.c_str());
-      return false;
-    } else if (key == "--duration") o.duration = number;
-    else if ((key == "--vertices" || key == "--triangles-every") &&
-             (number != std::floor(number) || number > 1e7)) {
-      std::fprintf(stderr, "bench_training_graph: %s expects a whole number in [1, 1e7], got '%s'\n",
-                   key.c_str(), value.c_str());
-      return false;
-    } else if (key == "--vertices") o.vertices = int(number);
-    else if (key == "--rate") o.rate = number;
-    else if (key == "--triangles-every") o.trianglesEvery = int(number);
-    else {
-      std::fprintf(stderr, "bench_training_graph: unknown option %s\n", key.c_str());
-      return false;
-    }
-  }
-  return true;
+Options parseOptions(int argc, char** argv) {
+  tt::tools::CommandLine args(argc, argv,
+                              "bench_training_graph haptic|graph|surface_source|surface_sink "
+                              "[--duration S] [--csv FILE] [--label TEXT] [--vertices N] "
+                              "[--rate HZ] [--triangles-every N]");
+  Options o;
+  o.duration = args.positiveNumber("--duration", o.duration);
+  o.csv = args.text("--csv", "");
+  o.label = args.text("--label", "");
+  o.vertices = args.positiveInteger("--vertices", 0);
+  o.rate = args.positiveNumber("--rate", o.rate);
+  o.trianglesEvery = args.positiveInteger("--triangles-every", o.trianglesEvery);
+  const std::vector<std::string> mode = args.positional(1);
+  args.finish();
+  const std::vector<std::string> modes = {"haptic", "graph", "surface_source", "surface_sink"};
+  if (mode.empty() || std::find(modes.begin(), modes.end(), mode[0]) == modes.end())
+    args.fail("expected a mode: haptic, graph, surface_source or surface_sink, got '" +
+              (mode.empty() ? std::string() : mode[0]) + "'");
+  o.mode = mode[0];
+  return o;
 }
 
 double percentile(std::vector<double> v, double p) {
@@ -503,12 +490,7 @@ int surfaceSink(ros::NodeHandle& nh, const Options& o) {
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "bench_training_graph", ros::init_options::AnonymousName);
-  Options o;
-  if (!parseOptions(argc, argv, o)) {
-    std::fprintf(stderr, "usage: bench_training_graph haptic|graph|surface_source|surface_sink "
-                         "[--duration S] [--csv FILE] [--label TEXT] [--vertices N] [--rate HZ]\n");
-    return 2;
-  }
+  const Options o = parseOptions(argc, argv);
   ros::NodeHandle nh;
   ros::AsyncSpinner spinner(2);
   spinner.start();

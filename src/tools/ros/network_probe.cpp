@@ -18,14 +18,13 @@
 
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "common/command_line.h"
 #include "tissue_trainer/ContactModel.h"
 #include "tissue_trainer/HapticStatus.h"
 
@@ -40,42 +39,22 @@ struct Options {
   std::string markFile;
 };
 
-[[noreturn]] void usage(const std::string& problem) {
-  std::fprintf(stderr,
-               "network_probe: %s\nusage: network_probe --duration S --out DIR [--contact TOPIC]... "
-               "[--topics T1,T2,...] [--mark-force F --mark-file FILE]\n",
-               problem.c_str());
-  std::exit(2);
-}
-
-double positiveNumber(const std::string& flag, const std::string& text) {
-  char* end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  if (end == text.c_str() || *end != '\0' || !std::isfinite(v) || v <= 0.0)
-    usage(flag + ": expected a number > 0, got '" + text + "'");
-  return v;
-}
-
-Options parse(const std::vector<std::string>& args) {
+Options parse(int argc, char** argv) {
+  tt::tools::CommandLine args(argc, argv,
+                              "network_probe --duration S --out DIR [--contact TOPIC]... "
+                              "[--topics T1,T2,...] [--mark-force F --mark-file FILE]");
   Options o;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& flag = args[i];
-    if (i + 1 >= args.size()) usage(flag + ": expected a value after it");
-    const std::string& value = args[++i];
-    if (flag == "--duration") o.duration = positiveNumber(flag, value);
-    else if (flag == "--out") o.out = value;
-    else if (flag == "--contact") o.contactTopics.push_back(value);
-    else if (flag == "--mark-force") o.markForce = positiveNumber(flag, value);
-    else if (flag == "--mark-file") o.markFile = value;
-    else if (flag == "--topics") {
-      std::stringstream list(value);
-      for (std::string t; std::getline(list, t, ',');)
-        if (!t.empty()) o.topics.push_back(t);
-    } else usage("unknown option '" + flag + "'");
-  }
-  if (o.duration <= 0.0) usage("--duration is required");
-  if (o.out.empty()) usage("--out is required");
-  if (o.markFile.empty() != (o.markForce <= 0.0)) usage("--mark-force and --mark-file go together");
+  o.duration = args.positiveNumber("--duration", 0.0);
+  o.out = args.text("--out", "");
+  o.contactTopics = args.texts("--contact");
+  o.topics = args.list("--topics", {});
+  o.markForce = args.positiveNumber("--mark-force", 0.0);
+  o.markFile = args.text("--mark-file", "");
+  args.finish();
+  if (o.duration <= 0.0) args.fail("--duration is required");
+  if (o.out.empty()) args.fail("--out is required");
+  if (o.markFile.empty() != (o.markForce <= 0.0))
+    args.fail("--mark-force and --mark-file go together");
   return o;
 }
 
@@ -179,7 +158,7 @@ class Probe {
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "network_probe", ros::init_options::AnonymousName);
-  const Options options = parse(std::vector<std::string>(argv + 1, argv + argc));
+  const Options options = parse(argc, argv);
   ros::NodeHandle nh;
   Probe probe(nh, options);
   ros::AsyncSpinner spinner(1);  // one thread: the callbacks never run at the same time

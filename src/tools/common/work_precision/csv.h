@@ -1,11 +1,10 @@
 #pragma once
 // The rows of work_precision.csv, shared by every benchmark that writes them
 // (bench_work_precision, bench_bullet_peer): one run's error, time and work, and the writer.
-#include <algorithm>
 #include <cstdio>
 #include <string>
 
-#include "work_precision_problems.h"
+#include "common/work_precision/problem.h"
 
 namespace tt {
 namespace work_precision {
@@ -23,21 +22,12 @@ struct RunResult {
 };
 
 // Free text made safe for one CSV field.
-inline std::string csvText(std::string s) {
-  std::replace(s.begin(), s.end(), ',', ';');
-  std::replace(s.begin(), s.end(), '\n', ' ');
-  return s;
-}
+std::string csvText(std::string s);
 
-inline void writeRunRow(FILE* csv, const std::string& problem, const std::string& model,
-                        const std::string& integrator, const std::string& parameterName,
-                        double parameter, const RunResult& r) {
-  std::fprintf(csv, "%s,%s,%s,%.6g,%.6g,%.6g,%.6g,%ld,%ld,%ld,%ld,%d,%s,%.6g,%d,%s\n",
-               problem.c_str(), model.c_str(), integrator.c_str(), parameter, r.errors.error,
-               r.cpu, r.wall, r.steps, r.rejected, r.newton, r.linear, r.stable ? 1 : 0,
-               parameterName.c_str(), r.errors.discrete, r.tets, csvText(r.errors.note).c_str());
-  std::fflush(csv);
-}
+// One row of kCsvHeader's columns, flushed.
+void writeRunRow(FILE* csv, const std::string& problem, const std::string& model,
+                 const std::string& integrator, const std::string& parameterName,
+                 double parameter, const RunResult& r);
 
 }  // namespace work_precision
 }  // namespace tt
