@@ -36,9 +36,10 @@ TT_PACKAGES=(
   python3-matplotlib python3-yaml
 )
 
-# The benchmark report's plots (scripts/bench, and the report check of scripts/test), and
-# TetGen for the unstructured cube of bench_adamss mesh_independence.
-TT_BENCH_PACKAGES=(python3-matplotlib tetgen)
+# The benchmark report's plots (scripts/bench, and the report check of scripts/test), TetGen
+# for the unstructured cube of bench_adamss mesh_independence, and clang, which compiles the
+# unit-test program of scripts/test in a third of g++'s time (cmake/compile_with_clang.sh).
+TT_BENCH_PACKAGES=(python3-matplotlib tetgen clang)
 
 tt_say() { printf '[tissue_trainer] %s\n' "$*"; }
 

@@ -8,13 +8,14 @@
 #include "tissue_trainer/core/model/force_model.h"
 #include "tissue_trainer/core/model/material.h"
 #include "tissue_trainer/core/solve/sparse_pattern.h"
+#include "random_draws.h"
 
 namespace tt {
 namespace testutil {
 
 inline Eigen::Vector3d randomUnit(std::mt19937& rng) {
   std::normal_distribution<double> n(0.0, 1.0);
-  return Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
+  return drawVector(n, rng).normalized();
 }
 
 inline Eigen::Matrix3d frameFrom(const Eigen::Vector3d& a0) {
@@ -50,7 +51,7 @@ inline Mesh boxMesh(int cx, int cy, int cz, double h, std::mt19937& rng, double 
   for (int k = 0; k <= cz; ++k)
     for (int j = 0; j <= cy; ++j)
       for (int i = 0; i <= cx; ++i)
-        m.rest.col(id(i, j, k)) = h * Eigen::Vector3d(i + u(rng), j + u(rng), k + u(rng));
+        m.rest.col(id(i, j, k)) = h * (Eigen::Vector3d(i, j, k) + drawVector(u, rng));
   // Corners as bits (x, y, z); paths from corner 0 to corner 7 give the 6 tets.
   const int paths[6][2] = {{1, 3}, {1, 5}, {2, 3}, {2, 6}, {4, 5}, {4, 6}};
   for (int k = 0; k < cz; ++k)
@@ -155,7 +156,9 @@ inline Eigen::VectorXd rotateVectors(const Eigen::VectorXd& f, const Eigen::Matr
 
 inline Eigen::Matrix3d randomRotation(std::mt19937& rng) {
   std::uniform_real_distribution<double> u(0.3, 2.5);
-  return Eigen::AngleAxisd(u(rng), randomUnit(rng)).toRotationMatrix();
+  const Eigen::Vector3d axis = randomUnit(rng);  // drawn first, as g++ did (random_draws.h)
+  const double angle = u(rng);
+  return Eigen::AngleAxisd(angle, axis).toRotationMatrix();
 }
 
 }  // namespace testutil

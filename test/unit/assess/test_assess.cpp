@@ -17,6 +17,7 @@
 #include "tissue_trainer/core/assess/assessment_report.h"
 #include "tissue_trainer/core/assess/session_assessor.h"
 #include "tissue_trainer/core/error.h"
+#include "../random_draws.h"
 
 namespace tt {
 namespace {
@@ -41,7 +42,7 @@ AssessmentReport straightLine(double noise) {
   for (int i = 0; i <= 2000; ++i) {
     const double t = 10.0 + i / 1000.0;
     Vector3d p = Vector3d(0.01, 0.02, 0.03) + dir * 0.05 * (i / 1000.0);
-    if (noise > 0.0) p += noise * Vector3d(n(rng), n(rng), n(rng));
+    if (noise > 0.0) p += noise * testutil::drawVector(n, rng);
     EXPECT_TRUE(a.addTip(t, p));
   }
   return a.report();

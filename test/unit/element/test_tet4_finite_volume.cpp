@@ -54,7 +54,8 @@ Eigen::Matrix3d randomStress(std::mt19937& rng) {
   } while (!(F.determinant() > 0.0));
   TeranMuscleLaw::Parameters p;
   p.k.activation = 0.5;
-  p.a0 = Eigen::Vector3d(u(rng), u(rng), 1.0).normalized();
+  const double y = u(rng), x = u(rng);  // g++'s order (random_draws.h)
+  p.a0 = Eigen::Vector3d(x, y, 1.0).normalized();
   return TeranMuscleLaw::stress(p, F);
 }
 

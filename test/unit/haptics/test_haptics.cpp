@@ -16,6 +16,7 @@
 #include "tissue_trainer/core/haptics/loop_stats.h"
 #include "tissue_trainer/core/haptics/safety_filter.h"
 #include "tissue_trainer/core/haptics/wall_probe.h"
+#include "../random_draws.h"
 
 namespace tt {
 namespace {
@@ -54,13 +55,13 @@ SpringTissue randomSpring(std::mt19937& rng) {
   for (int i = 0; i < 9; ++i) A(i) = u(rng);
   SpringTissue s;
   s.S = 300.0 * (A * A.transpose() + 0.2 * Matrix3d::Identity());
-  s.rest = 0.01 * Vector3d(u(rng), u(rng), u(rng));
+  s.rest = 0.01 * testutil::drawVector(u, rng);
   return s;
 }
 
 Vector3d randomVector(std::mt19937& rng, double scale) {
   std::uniform_real_distribution<double> u(-scale, scale);
-  return Vector3d(u(rng), u(rng), u(rng));
+  return testutil::drawVector(u, rng);
 }
 
 ExtrapolatorOptions noBlend() {
@@ -107,9 +108,14 @@ TEST(ForceExtrapolator, BlendOfTwoModelsOfOneLinearSpringIsStillExact) {
     ExtrapolatorOptions o;  // 15 ms smoothstep
     o.blendMethod = method;
     ForceExtrapolator fx(o);
-    fx.submit(spring.model(1, randomVector(rng, 0.02)), 0.0, randomVector(rng, 0.02));
-    fx.submit(spring.model(2, randomVector(rng, 0.02)), 0.100, randomVector(rng, 0.02));
-    fx.submit(spring.model(3, randomVector(rng, 0.02)), 0.107, randomVector(rng, 0.02));  // mid-blend
+    // Each tool position drawn before the model's anchor (g++'s order; random_draws.h).
+    const auto submit = [&](int sequence, double stamp) {
+      const Vector3d tool = randomVector(rng, 0.02);
+      fx.submit(spring.model(sequence, randomVector(rng, 0.02)), stamp, tool);
+    };
+    submit(1, 0.0);
+    submit(2, 0.100);
+    submit(3, 0.107);  // mid-blend
     for (double t : {0.1, 0.104, 0.107, 0.110, 0.2}) {
       const Vector3d x = randomVector(rng, 0.05);
       const Vector3d exact = spring.force(x);

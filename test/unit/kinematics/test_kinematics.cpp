@@ -72,7 +72,10 @@ TEST(KinematicChain, JacobianMatchesFiniteDifferences) {
   std::uniform_real_distribution<double> u(-0.9, 0.9);
   const double h = 1e-6;
   for (int k = 0; k < 20; ++k) {
-    const Eigen::VectorXd q = joints(c, u(rng), u(rng), 3 * u(rng), 0.12 + 0.1 * u(rng), 0.5 + 0.5 * u(rng));
+    double draws[5];  // the last joint's first, as g++ evaluated the former call's arguments
+    for (int j = 4; j >= 0; --j) draws[j] = u(rng);
+    const Eigen::VectorXd q =
+        joints(c, draws[0], draws[1], 3 * draws[2], 0.12 + 0.1 * draws[3], 0.5 + 0.5 * draws[4]);
     const Jacobian jac = c.tipJacobian(q);
     for (int i = 0; i < c.numVariables(); ++i) {
       Eigen::VectorXd qp = q, qm = q;
@@ -97,7 +100,8 @@ TEST(TipIk, RoundTripFromNearAndFarSeeds) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> angle(-0.95, 0.95), ins(0.02, 0.24);
   for (int k = 0; k < 100; ++k) {
-    const Eigen::VectorXd truth = joints(c, angle(rng), angle(rng), 0.3, ins(rng), 0.2);
+    const double insertion = ins(rng), pitch = angle(rng), yaw = angle(rng);  // g++'s order
+    const Eigen::VectorXd truth = joints(c, yaw, pitch, 0.3, insertion, 0.2);
     const Eigen::Vector3d target = c.tipPose(truth).translation();
     for (const Eigen::VectorXd& seed :
          {Eigen::VectorXd(joints(c, 0, 0, 0.3, 0, 0.2)), Eigen::VectorXd(truth + 0.01 * Eigen::VectorXd::Ones(5))}) {

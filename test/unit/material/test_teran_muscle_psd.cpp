@@ -21,6 +21,7 @@
 #include "tissue_trainer/core/material/law_point.h"
 #include "tissue_trainer/core/material/teran_muscle.h"
 #include "tissue_trainer/core/model/hyperelastic.h"
+#include "../random_draws.h"
 
 namespace tt {
 namespace {
@@ -221,8 +222,9 @@ Eigen::Matrix3d psdRandomRotation(std::mt19937& rng) {
 // Q diag(s) R with s uniform in [lo, hi] (a negative lo reaches inverted gradients).
 Eigen::Matrix3d gradientWithSingularValues(std::mt19937& rng, double lo, double hi) {
   std::uniform_real_distribution<double> u(lo, hi);
-  const Eigen::Vector3d s(u(rng), u(rng), u(rng));
-  return psdRandomRotation(rng) * s.asDiagonal() * psdRandomRotation(rng);
+  const Eigen::Vector3d s = testutil::drawVector(u, rng);
+  const Eigen::Matrix3d right = psdRandomRotation(rng);  // the right one first, as g++ did
+  return psdRandomRotation(rng) * s.asDiagonal() * right;
 }
 
 Eigen::Matrix3d randomDirection(std::mt19937& rng) {
@@ -280,7 +282,7 @@ TEST(TeranMusclePaperForms, SummaryBlocksAreTheLawsIsotropicTangent) {
     TeranMuscleLaw::Parameters p = sampleMuscle(rng, 0.0, true);
     p.k.sigmaMax = 0.0;  // the isotropic part alone
     std::uniform_real_distribution<double> u(0.3, 2.0);
-    const Eigen::Vector3d s(u(rng), u(rng), u(rng));
+    const Eigen::Vector3d s = testutil::drawVector(u, rng);
     const Matrix9d law = TeranMuscleLaw::tangent(p, Eigen::Matrix3d(s.asDiagonal()));
     const Matrix9d summary = summaryTangent(p.k, s);
     worst = std::max(worst, psdRelative(summary, law));
@@ -460,8 +462,10 @@ TEST(TeranMusclePsd, MethodsDifferOnlyWhereTheTangentIsIndefinite) {
   for (int trial = 0; trial < 200; ++trial) {
     const auto p = sampleMuscle(rng, 0.9, false);
     std::uniform_real_distribution<double> u(0.3, 1.5), w(-0.8, -0.05);
-    const Eigen::Vector3d s(u(rng), u(rng), w(rng));  // det F < 0
-    const Eigen::Matrix3d F = psdRandomRotation(rng) * s.asDiagonal() * psdRandomRotation(rng);
+    const double z = w(rng), y = u(rng), x = u(rng);  // det F < 0; g++'s order
+    const Eigen::Vector3d s(x, y, z);
+    const Eigen::Matrix3d right = psdRandomRotation(rng);
+    const Eigen::Matrix3d F = psdRandomRotation(rng) * s.asDiagonal() * right;
     const Matrix9d a = projectedTangent(p, F, diagonalBlocks(kThreshold));
     const Matrix9d b = projectedTangent(p, F, eigen);
     const double e = (a - b).norm() / b.norm();

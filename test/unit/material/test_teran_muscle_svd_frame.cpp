@@ -19,6 +19,7 @@
 #include "tissue_trainer/core/material/inversion.h"
 #include "tissue_trainer/core/material/teran_muscle.h"
 #include "tissue_trainer/core/material/teran_muscle_svd_frame.h"
+#include "../random_draws.h"
 
 namespace tt {
 namespace {
@@ -58,14 +59,21 @@ Eigen::Matrix3d svdRandomRotation(std::mt19937& rng) { return randomOrthogonal(r
 
 Eigen::Vector3d svdRandomUnit(std::mt19937& rng) {
   std::normal_distribution<double> n(0.0, 1.0);
-  return Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
+  return testutil::drawVector(n, rng).normalized();
+}
+
+// R1 diag(s) R2 with random rotations, the right one drawn first (g++'s order of the product
+// these tests were written with; random_draws.h).
+Eigen::Matrix3d svdRandomRotated(const Eigen::Vector3d& s, std::mt19937& rng) {
+  const Eigen::Matrix3d right = svdRandomRotation(rng);
+  return svdRandomRotation(rng) * s.asDiagonal() * right;
 }
 
 // Singular values (positive, any order) of one regime.
 Eigen::Vector3d singularValues(Regime r, std::mt19937& rng) {
   std::uniform_real_distribution<double> log03(-0.3, 0.3), unit(0.0, 1.0);
-  auto moderate = [&] { return std::exp(log03(rng)); };
-  Eigen::Vector3d s(moderate(), moderate(), moderate());
+  const Eigen::Vector3d logs = testutil::drawVector(log03, rng);
+  Eigen::Vector3d s(std::exp(logs.x()), std::exp(logs.y()), std::exp(logs.z()));
   switch (r) {
     case Regime::kModerate: break;
     case Regime::kNearIncompressible:  // J = 1 +- 1e-3
@@ -83,6 +91,14 @@ Eigen::Vector3d singularValues(Regime r, std::mt19937& rng) {
       break;
   }
   return s;
+}
+
+// R1 diag(s) R2 for the regime's singular values, drawn right rotation, s, left rotation (g++'s
+// order of the former one-line product).
+Eigen::Matrix3d svdRandomGradient(Regime r, std::mt19937& rng) {
+  const Eigen::Matrix3d right = svdRandomRotation(rng);
+  const Eigen::Vector3d s = singularValues(r, rng);
+  return svdRandomRotation(rng) * s.asDiagonal() * right;
 }
 
 Law::Parameters randomMuscle(Regime r, int trial, std::mt19937& rng) {
@@ -126,8 +142,7 @@ TEST(TeranMuscleSvdFrame, StressEqualsTheLawsStress) {
     Worst worst, worstInPressureRoundOff;
     for (int trial = 0; trial < kTrials; ++trial) {
       const Law::Parameters p = randomMuscle(r, trial, rng);
-      const Eigen::Matrix3d F =
-          svdRandomRotation(rng) * singularValues(r, rng).asDiagonal() * svdRandomRotation(rng);
+      const Eigen::Matrix3d F = svdRandomGradient(r, rng);
       const RotationSvd svd = rotationSvd(F);
       const Eigen::Matrix3d P = Law::stress(p, F);
       const Eigen::Matrix3d Psvd = Frame::stress(p, svd.U, svd.sigma, svd.V);
@@ -154,9 +169,9 @@ TEST(TeranMuscleSvdFrame, StressEqualsTheLawsStressWithReflectedSingularVectors)
   int reflected = 0;
   for (int trial = 0; trial < kTrials; ++trial) {
     const Law::Parameters p = randomMuscle(Regime::kModerate, trial, rng);
-    const Eigen::Matrix3d F = randomOrthogonal(rng, -1.0) *
-                              singularValues(Regime::kModerate, rng).asDiagonal() *
-                              randomOrthogonal(rng, -1.0);
+    const Eigen::Matrix3d right = randomOrthogonal(rng, -1.0);  // g++'s order (random_draws.h)
+    const Eigen::Vector3d s = singularValues(Regime::kModerate, rng);
+    const Eigen::Matrix3d F = randomOrthogonal(rng, -1.0) * s.asDiagonal() * right;
     const Eigen::JacobiSVD<Eigen::Matrix3d> svd(F, Eigen::ComputeFullU | Eigen::ComputeFullV);
     const Eigen::Matrix3d U = svd.matrixU(), V = svd.matrixV();
     reflected += U.determinant() < 0.0;
@@ -178,8 +193,8 @@ TEST(TeranMuscleSvdFrame, ClampedStressEqualsTheLawsStressOnInvertedGradients) {
   Worst worst;
   for (int trial = 0; trial < kTrials; ++trial) {
     const Law::Parameters p = randomMuscle(Regime::kModerate, trial, rng);
-    const Eigen::Vector3d s(u(rng), u(rng), w(rng));
-    const Eigen::Matrix3d F = svdRandomRotation(rng) * s.asDiagonal() * svdRandomRotation(rng);
+    const double z = w(rng), y = u(rng), x = u(rng);  // g++'s order (random_draws.h)
+    const Eigen::Matrix3d F = svdRandomRotated(Eigen::Vector3d(x, y, z), rng);
     ASSERT_LT(F.determinant(), 0.0);
     const RotationSvd svd = rotationSvd(F);
     ASSERT_LT(svd.sigma(2), 0.0);  // the reflection is on the smallest singular value
@@ -204,8 +219,7 @@ TEST(TeranMuscleSvdFrame, TangentEqualsTheLawsTangent) {
     Worst worst;
     for (int trial = 0; trial < kTrials; ++trial) {
       const Law::Parameters p = randomMuscle(r, trial, rng);
-      const Eigen::Matrix3d F =
-          svdRandomRotation(rng) * singularValues(r, rng).asDiagonal() * svdRandomRotation(rng);
+      const Eigen::Matrix3d F = svdRandomGradient(r, rng);
       const RotationSvd svd = rotationSvd(F);
       const double e = svdRelative(Frame::tangent(p, svd.U, svd.sigma, svd.V), Law::tangent(p, F));
       worst.add(e);
@@ -227,9 +241,15 @@ TEST(TeranMuscleSvdFrame, DifferentialEqualsTheLawsDifferential) {
   for (int trial = 0; trial < kTrials; ++trial) {
     const Law::Parameters p = randomMuscle(Regime::kModerate, trial, rng);
     const bool inverted = trial % 2;
-    const Eigen::Vector3d s = inverted ? Eigen::Vector3d(u(rng), u(rng), w(rng))
-                                       : singularValues(Regime::kModerate, rng);
-    const Eigen::Matrix3d F = svdRandomRotation(rng) * s.asDiagonal() * svdRandomRotation(rng);
+    Eigen::Vector3d s;
+    if (inverted) {
+      s.z() = w(rng);  // g++'s order (random_draws.h)
+      s.y() = u(rng);
+      s.x() = u(rng);
+    } else {
+      s = singularValues(Regime::kModerate, rng);
+    }
+    const Eigen::Matrix3d F = svdRandomRotated(s, rng);
     const RotationSvd svd = rotationSvd(F);
     bool clamped;
     const Eigen::Matrix3d Fc = inverted ? clampedGradient(svd, kSvdThreshold, clamped) : F;

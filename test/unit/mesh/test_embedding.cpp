@@ -9,6 +9,7 @@
 
 #include "tissue_trainer/core/mesh/embedding.h"
 #include "tissue_trainer/core/mesh/generators.h"
+#include "../random_draws.h"
 
 namespace tt {
 namespace {
@@ -25,7 +26,7 @@ Mesh jitteredGrid(std::mt19937& rng) {
   for (int n = 0; n < m.numNodes(); ++n) {
     const Eigen::Vector3d p = m.rest.col(n);
     const bool boundary = ((p - box.min).array() == 0).any() || ((p - box.max).array() == 0).any();
-    if (!boundary) m.rest.col(n) += Eigen::Vector3d(jitter(rng), jitter(rng), jitter(rng));
+    if (!boundary) m.rest.col(n) += testutil::drawVector(jitter, rng);
   }
   for (const Tet& t : m.tets) EXPECT_GT(tetVolume(m.rest, t), 0.0);
   return m;
@@ -52,8 +53,8 @@ TEST(Embedding, ClosestPointInTetSatisfiesTheOptimalityCondition) {
   std::normal_distribution<double> g(0.0, 1.0);
   for (int trial = 0; trial < 2000; ++trial) {
     Eigen::Vector3d v[4];
-    for (auto& x : v) x = Eigen::Vector3d(g(rng), g(rng), g(rng));
-    const Eigen::Vector3d p = 2.0 * Eigen::Vector3d(g(rng), g(rng), g(rng));
+    for (auto& x : v) x = testutil::drawVector(g, rng);
+    const Eigen::Vector3d p = 2.0 * testutil::drawVector(g, rng);
     Eigen::Vector4d w;
     const double d2 = closestPointInTet(v[0], v[1], v[2], v[3], p, w);
     ASSERT_GE(w.minCoeff(), 0.0);
@@ -113,7 +114,7 @@ void expectAffine(const Mesh& m, const Embedding& e, std::mt19937& rng, double t
   std::normal_distribution<double> g(0.0, 1.0);
   Eigen::Matrix3d A;
   for (int i = 0; i < 9; ++i) A(i) = (i % 4 == 0 ? 1.0 : 0.0) + 0.3 * g(rng);
-  const Eigen::Vector3d b(g(rng), g(rng), g(rng));
+  const Eigen::Vector3d b = testutil::drawVector(g, rng);
   const Eigen::Matrix3Xd deformed = (A * m.rest).colwise() + b;
   const Eigen::Matrix3Xd atRest = e.apply(flatten(m.rest));
   const Eigen::Matrix3Xd moved = e.apply(flatten(deformed));

@@ -10,6 +10,7 @@
 
 #include "../model_test_util.h"
 #include "tissue_trainer/core/model/collision.h"
+#include "../random_draws.h"
 
 namespace tt {
 namespace {
@@ -43,7 +44,7 @@ TEST(ClosedSurface, SignedDistanceOfACubeIsExactEverywhere) {
     std::uniform_real_distribution<double> u(-0.015, 0.035);
     int inside = 0;
     for (int k = 0; k < 4000; ++k) {
-      const Eigen::Vector3d x(u(rng), u(rng), u(rng));
+      const Eigen::Vector3d x = testutil::drawVector(u, rng);
       Eigen::Vector3d nearest;
       const double d = surface.signedDistance(x, nearest);
       ASSERT_NEAR(d, boxDistance(x, 0.02), 1e-15) << x.transpose();

@@ -43,8 +43,8 @@ TEST(EdgeLength, LiteralAndFastPathsAgreeOnRandomTets) {
   for (int trial = 0; trial < 200; ++trial) {
     Mesh m = randomTet(rng, 0.01);
     const double amplitude = (trial % 4 == 0 ? 0.5 : 0.05) * 0.01;  // small and large strains
-    Eigen::VectorXd x = rigidMotion(perturbed(m, amplitude, rng), randomRotation(rng),
-                                    Eigen::Vector3d(0.01, -0.02, 0.03));
+    const Eigen::Matrix3d R = randomRotation(rng);  // before the perturbation, as g++ drew them
+    Eigen::VectorXd x = rigidMotion(perturbed(m, amplitude, rng), R, Eigen::Vector3d(0.01, -0.02, 0.03));
     EdgeLengthModel fast(m, testMaterials(), EdgeLengthPath::kFast);
     EdgeLengthModel literal(m, testMaterials(), EdgeLengthPath::kLiteral);
     worstForce = std::max(worstForce, relDiff(force(literal, x), force(fast, x)));
@@ -67,8 +67,9 @@ TEST(EdgeLength, Eq30AgreesWithEq31AndTheFastPathOnRandomTets) {
     Mesh m = randomTet(rng, 0.01);
     const std::vector<Material>& mats = materialSets[trial % 2];
     const double amplitude = (trial % 4 == 0 ? 0.5 : 0.05) * 0.01;
-    const Eigen::VectorXd x = rigidMotion(perturbed(m, amplitude, rng), randomRotation(rng),
-                                          Eigen::Vector3d(0.01, -0.02, 0.03));
+    const Eigen::Matrix3d R = randomRotation(rng);  // before the perturbation, as g++ drew them
+    const Eigen::VectorXd x =
+        rigidMotion(perturbed(m, amplitude, rng), R, Eigen::Vector3d(0.01, -0.02, 0.03));
     EdgeLengthModel fast(m, mats, EdgeLengthPath::kFast);
     EdgeLengthModel eq31(m, mats, EdgeLengthPath::kLiteral);
     EdgeLengthModel eq30(m, mats, EdgeLengthPath::kEq30);

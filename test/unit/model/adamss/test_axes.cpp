@@ -16,6 +16,7 @@
 #include "../../model_test_util.h"
 #include "tissue_trainer/core/mesh/generators.h"
 #include "tissue_trainer/core/model/adamss/axes.h"
+#include "../../random_draws.h"
 
 namespace tt {
 namespace adamss {
@@ -23,7 +24,8 @@ namespace {
 
 Eigen::Matrix3d randomRotation(std::mt19937& rng) {
   std::normal_distribution<double> n(0.0, 1.0);
-  Eigen::Quaterniond q(n(rng), n(rng), n(rng), n(rng));
+  const Eigen::Vector3d v = testutil::drawVector(n, rng);  // then w: g++'s order
+  Eigen::Quaterniond q(n(rng), v.x(), v.y(), v.z());
   return q.normalized().toRotationMatrix();
 }
 
@@ -264,8 +266,8 @@ TEST(AdamssAxes, DistortedHexesHavePointsOnTheBilinearFaces) {
 TEST(AdamssAxes, AffineImagesGiveTheSameCoefficients) {
   std::mt19937 rng(9);
   for (int trial = 0; trial < 50; ++trial) {
-    Eigen::Matrix3d A =
-        randomRotation(rng) * (Eigen::Matrix3d::Identity() + randomOffsets<3>(rng, 0.3));
+    const Eigen::Matrix3d offsets = randomOffsets<3>(rng, 0.3);  // first, as g++ drew them
+    Eigen::Matrix3d A = randomRotation(rng) * (Eigen::Matrix3d::Identity() + offsets);
     if (A.determinant() < 0.2) continue;
     if (trial % 3 == 0) A = randomRotation(rng);  // rigid
     const Eigen::Vector3d b(1.0, -2.0, 3.0);
