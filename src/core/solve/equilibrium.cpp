@@ -38,7 +38,7 @@ double EquilibriumSolver::residualAt(const System& system, const Eigen::VectorXd
   const double energy = system.computeForce(x, zeroVelocity_, f);
   ++report.forceEvaluations;
   potential = !hasEnergy_           ? std::numeric_limits<double>::quiet_NaN()
-              : holdsFollowerLoads_ ? energy - (system.externalForce + heldLoad_).dot(x)
+              : holdsFollowerLoads_ ? energy - system.externalForce.dot(x) - heldLoad_.dot(x)
                                     : energy - system.externalForce.dot(x);
   system.zeroConstrained(f);
   return f.stableNorm();  // a body nearly at rest: squares that underflow
