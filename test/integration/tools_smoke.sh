@@ -24,6 +24,8 @@ programs=(
   "bench_haptics --quick"
   "bench_implicit_step --quick --csv $work/implicit_step.csv"
   "bench_iteration_control --quick --out $work/iteration_control"
+  "bench_land_beam --quick"
+  "bench_land_ventricle --quick"
   "bench_muscle_demo --quick"
   "bench_radau_table_e1 --quick"
   "bench_scene_parts --quick"

@@ -192,4 +192,88 @@ Mesh spindleMuscle(double length, double maxRadius) {
   return spindleMuscle(shape);
 }
 
+int ellipsoidNode(const EllipsoidShape& shape, int k, int i, int j) {
+  if (i == 0) return k;
+  const int c = shape.circumferential;
+  return (shape.transmural + 1) + (k * shape.meridional + i - 1) * c + ((j % c) + c) % c;
+}
+
+namespace {
+
+Eigen::Vector3d ellipsoidPoint(const EllipsoidShape& shape, double t, double s, double v) {
+  const double rs = shape.endoShort + t * (shape.epiShort - shape.endoShort);
+  const double rl = shape.endoLong + t * (shape.epiLong - shape.endoLong);
+  const double uBase = -std::acos(shape.baseZ / rl);
+  const double u = -kPi + s * (uBase + kPi);
+  return Eigen::Vector3d(rs * std::sin(u) * std::cos(v), rs * std::sin(u) * std::sin(v),
+                         rl * std::cos(u));
+}
+
+// The node of cell (i, j, k)'s corner `bits` (bit 0: +i, bit 1: +j, bit 2: +k).
+int ellipsoidCorner(const EllipsoidShape& shape, int i, int j, int k, int bits) {
+  return ellipsoidNode(shape, k + (bits >> 2 & 1), i + (bits & 1), j + (bits >> 1 & 1));
+}
+
+bool hasRepeatedNode(const Tet& t) {
+  for (int a = 0; a < 4; ++a)
+    for (int b = a + 1; b < 4; ++b)
+      if (t[a] == t[b]) return true;
+  return false;
+}
+
+}  // namespace
+
+Mesh truncatedEllipsoid(const EllipsoidShape& shape, TetSplit split) {
+  if (shape.transmural < 1 || shape.meridional < 2 || shape.circumferential < 3 ||
+      !(shape.endoShort > 0.0 && shape.epiShort > shape.endoShort &&
+        shape.epiLong > shape.endoLong && shape.baseZ >= 0.0 && shape.baseZ < shape.endoLong))
+    throw std::invalid_argument("truncatedEllipsoid: need transmural >= 1, meridional >= 2, "
+                                "circumferential >= 3, 0 < endo < epi radii, 0 <= baseZ < endoLong");
+  if (split != TetSplit::kNone && split != TetSplit::kSix)
+    throw std::invalid_argument("truncatedEllipsoid: split none (hexes) or six (tets) only");
+  const int nt = shape.transmural, nm = shape.meridional, nc = shape.circumferential;
+  Mesh mesh;
+  mesh.rest.resize(3, (nt + 1) * (1 + nm * nc));
+  for (int k = 0; k <= nt; ++k)
+    for (int i = 0; i <= nm; ++i)
+      for (int j = 0; j < (i == 0 ? 1 : nc); ++j)
+        mesh.rest.col(ellipsoidNode(shape, k, i, j)) = ellipsoidPoint(
+            shape, static_cast<double>(k) / nt, static_cast<double>(i) / nm, 2.0 * kPi * j / nc);
+  // Corner bit 1 (+j) mirrored when (i, j, k) is left-handed in space, so hexes are positive.
+  const Eigen::Matrix3Xd& x = mesh.rest;
+  const auto at = [&](int bits) { return x.col(ellipsoidCorner(shape, 1, 0, 0, bits)); };
+  const double handedness =
+      (at(1) - at(0)).dot((at(2) - at(0)).cross(at(4) - at(0)));
+  const int mirror = handedness < 0.0 ? 0b010 : 0;
+  for (int k = 0; k < nt; ++k)
+    for (int i = 0; i < nm; ++i)
+      for (int j = 0; j < nc; ++j) {
+        const auto corner = [&](int bits) {
+          return ellipsoidCorner(shape, i, j, k, (bits ^ mirror));
+        };
+        if (split == TetSplit::kNone) {
+          Hex hex;
+          for (int c = 0; c < 8; ++c) hex[c] = corner(kVtkCornerBits[c]);
+          mesh.hexes.push_back(hex);
+          continue;
+        }
+        for (const int* bits : kSixTets) {
+          Tet tet{corner(bits[0]), corner(bits[1]), corner(bits[2]), corner(bits[3])};
+          if (hasRepeatedNode(tet)) continue;  // a flat tet of an apex cell
+          orientPositively(mesh.rest, tet);
+          mesh.tets.push_back(tet);
+        }
+      }
+  finish(mesh);
+  // The collapsed apex quads of the hexes give each a triangle with a repeated node: no area.
+  mesh.surface.erase(std::remove_if(mesh.surface.begin(), mesh.surface.end(),
+                                    [](const Triangle& t) {
+                                      return t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
+                                    }),
+                     mesh.surface.end());
+  for (int k = 0; k <= nt; ++k)
+    for (int j = 0; j < nc; ++j) mesh.nodeTags[ellipsoidNode(shape, k, nm, j)] = kFixedAll;
+  return mesh;
+}
+
 }  // namespace tt

@@ -22,6 +22,7 @@ void registerActiveTensionModel(Registry&);      // src/core/model/adamss/
 void registerAdamssTissuePresets(Registry&);     // src/core/model/adamss/
 void registerMuscleGroupsModel(Registry&);
 void registerCollisionModel(Registry&);
+void registerFollowerPressureModel(Registry&);
 // Material laws (src/core/material/*_registration.cpp).
 void registerStvkLaw(Registry&);
 void registerNeoHookeanLaw(Registry&);
@@ -29,6 +30,7 @@ void registerVolumeLaw(Registry&);
 void registerHunterLaw(Registry&);
 void registerHunterPolynomialLaw(Registry&);
 void registerTeranMuscleLaw(Registry&);
+void registerGuccioneLaw(Registry&);
 // Integrators (src/core/integrate/*_registration.cpp).
 void registerBackwardEuler(Registry&);
 void registerNewtonian(Registry&);
@@ -54,12 +56,14 @@ void registerBuiltIns(Registry& registry) {
   registerAdamssTissuePresets(registry);
   registerMuscleGroupsModel(registry);
   registerCollisionModel(registry);
+  registerFollowerPressureModel(registry);
   registerStvkLaw(registry);
   registerNeoHookeanLaw(registry);
   registerVolumeLaw(registry);
   registerHunterLaw(registry);
   registerHunterPolynomialLaw(registry);
   registerTeranMuscleLaw(registry);
+  registerGuccioneLaw(registry);
   registerBackwardEuler(registry);
   registerNewtonian(registry);
   registerRadauIIA(registry);

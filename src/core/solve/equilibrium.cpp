@@ -37,8 +37,9 @@ double EquilibriumSolver::residualAt(const System& system, const Eigen::VectorXd
   // The force pass returns the models' energies (ForceModel::addForce).
   const double energy = system.computeForce(x, zeroVelocity_, f);
   ++report.forceEvaluations;
-  potential = hasEnergy_ ? energy - system.externalForce.dot(x)
-                         : std::numeric_limits<double>::quiet_NaN();
+  potential = !hasEnergy_           ? std::numeric_limits<double>::quiet_NaN()
+              : holdsFollowerLoads_ ? energy - system.externalForce.dot(x) - heldLoad_.dot(x)
+                                    : energy - system.externalForce.dot(x);
   system.zeroConstrained(f);
   return f.stableNorm();  // a body nearly at rest: squares that underflow
 }
@@ -210,8 +211,11 @@ EquilibriumReport EquilibriumSolver::solve(const System& system, Eigen::VectorXd
     return stop(EquilibriumStop::kNoStiffness,
                 "equilibrium: every force model must provide its stiffness");
   hasEnergy_ = std::all_of(system.models.begin(), system.models.end(),
-                           [](const auto& m) { return m->hasEnergy(); });
+                           [](const auto& m) { return m->hasEnergy() || m->isFollowerLoad(); });
+  holdsFollowerLoads_ = std::any_of(system.models.begin(), system.models.end(),
+                                    [](const auto& m) { return m->isFollowerLoad(); });
   zeroVelocity_.setZero(x.size());
+  if (holdsFollowerLoads_) heldLoad_.setZero(x.size());
   double residual = residualAt(system, x, f_, potential_, report);
   report.initialResidual = report.residual = residual;
   report.residualHistory.push_back(residual);
@@ -255,6 +259,7 @@ EquilibriumReport EquilibriumSolver::solve(const System& system, Eigen::VectorXd
       ++report.gradientSteps;
       scaledForceDirection();
     }
+    holdFollowerLoads(system, x);
     bool moved = lineSearch(system, x, residual, report);
     if (!moved && !gradient) {
       ++report.gradientSteps;
@@ -277,6 +282,15 @@ EquilibriumReport EquilibriumSolver::solve(const System& system, Eigen::VectorXd
     report.residualHistory.push_back(residual);
   }
   return report;
+}
+
+void EquilibriumSolver::holdFollowerLoads(const System& system, const Eigen::VectorXd& x) {
+  if (!holdsFollowerLoads_) return;
+  followerScratch_.setZero(x.size());
+  for (const auto& m : system.models)
+    if (m->isFollowerLoad()) m->addForce(x, zeroVelocity_, followerScratch_);
+  potential_ += (heldLoad_ - followerScratch_).dot(x);
+  heldLoad_.swap(followerScratch_);
 }
 
 void solveEquilibrium(System& system, const EquilibriumParams& params,

@@ -10,6 +10,7 @@
 #include <type_traits>
 
 #include "../model_test_util.h"
+#include "tissue_trainer/core/material/guccione.h"
 #include "tissue_trainer/core/material/hunter.h"
 #include "tissue_trainer/core/material/hunter_polynomial.h"
 #include "tissue_trainer/core/material/inversion.h"
@@ -41,6 +42,10 @@ VolumeLaw::Constants sampleConstants<VolumeLaw>() {
 template <>
 HunterLaw::Constants sampleConstants<HunterLaw>() {
   return HunterConstants::table21();
+}
+template <>
+GuccioneLaw::Constants sampleConstants<GuccioneLaw>() {
+  return {2000.0, 8.0, 2.0, 4.0, 5e4};  // the benchmark's beam, kappa = 25 C
 }
 template <>
 HunterPolynomialLaw::Constants sampleConstants<HunterPolynomialLaw>() {
@@ -147,7 +152,7 @@ class LawConformance : public ::testing::Test {
 
 using LawTypes =
     ::testing::Types<StvkLaw, NeoHookeanLaw, VolumeLaw, HunterLaw, HunterPolynomialLaw,
-                     TeranMuscle<true, true>, TeranMuscle<false, true>, TeranMuscle<true, false>,
+                     GuccioneLaw, TeranMuscle<true, true>, TeranMuscle<false, true>, TeranMuscle<true, false>,
                      TeranMuscle<false, false>>;
 TYPED_TEST_SUITE(LawConformance, LawTypes);
 

@@ -18,14 +18,14 @@ namespace fs = std::filesystem;
 
 std::string meshPath(const std::string& name) { return std::string(TT_SOURCE_DIR) + "/config/meshes/" + name; }
 
-std::string tempDir() {
+std::string meshIoTempDir() {
   const fs::path dir = fs::temp_directory_path() / "tt_test_mesh_io";
   fs::create_directories(dir);
   return dir.string();
 }
 
 std::string writeText(const std::string& name, const std::string& text) {
-  const std::string path = tempDir() + "/" + name;
+  const std::string path = meshIoTempDir() + "/" + name;
   std::ofstream(path, std::ios::binary) << text;
   return path;
 }
@@ -167,7 +167,7 @@ TEST(MeshIo, KuhnBoxSurfaceEnclosesItsVolume) {
 
 TEST(MeshIo, RoundTripsAreExact) {
   const Mesh box = kuhnBox(2);
-  const std::string dir = tempDir();
+  const std::string dir = meshIoTempDir();
   writeGmsh2(dir + "/box_v2.msh", box);
   expectSameMesh(box, readMesh(dir + "/box_v2.msh"));
   writeGmsh4(dir + "/box_v4.msh", box);
@@ -185,7 +185,7 @@ TEST(MeshIo, RoundTripsAreExact) {
 TEST(MeshIo, HexesRoundTrip) {
   const Mesh box = kuhnBox(2, true);
   ASSERT_EQ(box.hexes.size(), 8u);
-  const std::string dir = tempDir();
+  const std::string dir = meshIoTempDir();
   for (const std::string name : {"hex_v2.msh", "hex.vtk", "hex.vtu"}) {
     writeMesh(dir + "/" + name, box);
     expectSameMesh(box, readMesh(dir + "/" + name));
@@ -231,7 +231,7 @@ TEST(MeshIo, HandWrittenGmsh40Layout) {
 }
 
 TEST(MeshIo, TetgenZeroBasedWithAttributesMarkersAndComments) {
-  const std::string dir = tempDir();
+  const std::string dir = meshIoTempDir();
   writeText("tg0.node",
             "# a comment line\n5 3 2 1\n0 0 0 0 7.5 1 0 # trailing comment\n1 1 0 0 1 2 1\n"
             "2 0 1 0 1 2 1\n\n3 0 0 1 1 2 1\n4 1 1 1 0.5 0.5 0\n");
@@ -283,7 +283,7 @@ TEST(MeshIo, ObjFacesForms) {
 TEST(MeshIo, ObjRoundTripOfTheLiverSurface) {
   const Mesh m = readMesh(meshPath("liver.msh"));
   const SurfaceMesh s{m.rest, m.surface};
-  const std::string path = tempDir() + "/liver_surface.obj";
+  const std::string path = meshIoTempDir() + "/liver_surface.obj";
   writeObj(path, s);
   const SurfaceMesh back = readObj(path);
   EXPECT_TRUE(back.vertices == s.vertices);
@@ -321,7 +321,7 @@ TEST(MeshIo, VtuCellFieldsForUniformStretchAndRotation) {
   for (auto& frame : m.fibreFrame) frame = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   m.material.assign(nt, 2);
   const Eigen::Vector3d a0 = m.fibreFrame[0].col(0);
-  const std::string path = tempDir() + "/fields.vtu";
+  const std::string path = meshIoTempDir() + "/fields.vtu";
 
   // x = 2 X: det F = 8, E = 1.5 I so |E| = 1.5 sqrt(3), F a0 = 2 a0; displacement = X.
   Eigen::VectorXd x = 2.0 * Eigen::Map<const Eigen::VectorXd>(m.rest.data(), m.rest.size());
@@ -378,7 +378,7 @@ TEST(MeshIo, VtuWriterHandlesHexCellFields) {
   Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(moved.data(), moved.size());
   VtuFields fields;
   fields.positions = &x;
-  const std::string path = tempDir() + "/hexfields.vtu";
+  const std::string path = meshIoTempDir() + "/hexfields.vtu";
   writeVtu(path, m, fields);
   const auto ratio = vtuArray(readText(path), "volume_ratio");
   ASSERT_EQ(ratio.size(), m.tets.size() + 1);

@@ -10,6 +10,7 @@
 #include <random>
 
 #include "../model_test_util.h"
+#include "tissue_trainer/core/material/guccione.h"
 #include "tissue_trainer/core/material/hunter.h"
 #include "tissue_trainer/core/material/hunter_polynomial.h"
 #include "tissue_trainer/core/material/neo_hookean.h"
@@ -45,6 +46,9 @@ std::vector<typename Law::Constants> constantsFor(const std::vector<Material>& m
       HunterPolynomialLaw::Constants c;
       for (double& stiffness : c.hunter.k) stiffness *= m.mu / 1e3;
       k.push_back(c);
+    } else if constexpr (std::is_same_v<Law, GuccioneLaw>) {
+      // The benchmark beam's weights, C and the bulk modulus scaled to the material.
+      k.push_back({0.25 * m.mu, 8.0, 2.0, 4.0, m.lambda + m.mu});
     } else if constexpr (std::is_same_v<Law, TeranMuscleLaw>) {
       // Passive (no force at rest), scaled to the material; material 0 with the deviatoric
       // fibre stretch, material 1 with |F a0|.
@@ -119,7 +123,7 @@ class HyperelasticConformance : public ::testing::Test {
 };
 
 using LawTypes = ::testing::Types<StvkLaw, NeoHookeanLaw, VolumeLaw, HunterLaw,
-                                  HunterPolynomialLaw, TeranMuscleLaw>;
+                                  HunterPolynomialLaw, GuccioneLaw, TeranMuscleLaw>;
 TYPED_TEST_SUITE(HyperelasticConformance, LawTypes);
 
 TYPED_TEST(HyperelasticConformance, ForceIsMinusTheEnergyGradient) {

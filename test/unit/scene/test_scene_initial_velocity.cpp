@@ -12,7 +12,7 @@
 namespace tt {
 namespace {
 
-const char* const kBlock = R"(mesh: {generator: box, nodes: [3, 3, 3], size: [0.02, 0.02, 0.03]}
+const char* const kVelocityBlock = R"(mesh: {generator: box, nodes: [3, 3, 3], size: [0.02, 0.02, 0.03]}
 materials: [{young_modulus: 5000, poisson_ratio: 0.3, density: 1000}]
 force_models: [{type: hyperelastic, law: neo_hookean}]
 integrator: {type: backward_euler, substeps: 4}
@@ -32,7 +32,7 @@ Eigen::Vector3d centreOfMass(const System& s) {
 }
 
 std::string scene(const std::string& loads, const std::string& boundary = "") {
-  return testutil::replaced(testutil::replaced(kBlock, "LOADS", loads), "BOUNDARY", boundary);
+  return testutil::replaced(testutil::replaced(kVelocityBlock, "LOADS", loads), "BOUNDARY", boundary);
 }
 
 // A free block thrown with v0 and accelerated by a: its centre of mass follows

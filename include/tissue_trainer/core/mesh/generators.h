@@ -52,4 +52,33 @@ double spindleRadius(const SpindleShape& shape, double z);
 Mesh spindleMuscle(const SpindleShape& shape);
 Mesh spindleMuscle(double length = 0.1, double maxRadius = 0.015);
 
+// The truncated ellipsoid of the left ventricle of Land et al., "Verification of cardiac
+// mechanics software: benchmark problems and solutions for testing active and passive material
+// behaviour" (2015), Sec. 2c(ii), in the prolate-spheroidal parametrisation the paper gives:
+//   x = r_s(t) sin u cos v,  y = r_s(t) sin u sin v,  z = r_l(t) cos u,
+// r_s and r_l linear in the transmural coordinate t in [0, 1] from the endocardium (t = 0) to
+// the epicardium (t = 1), v in [0, 2 pi), u from the apex u = -pi to the base
+// u = -arccos(baseZ / r_l(t)), so every layer ends on the plane z = baseZ. Nodes: the apex of
+// each layer (indices 0 .. transmural: layer k's apex is node k), then the rings
+// (transmural + 1) * meridional * circumferential, ring i (1 .. meridional) of layer k at
+// index (transmural + 1) + (k * meridional + i - 1) * circumferential + j.
+// split kNone: hexes (VTK order), those at the apex with their apex face collapsed onto the
+// apex nodes (a wedge; its Gauss points lie inside, where the map is regular); kSix: each cell
+// split into the six tets of boxGrid around its diagonal, the apex cells' flat tets dropped
+// (three remain, conforming with their neighbours). The base nodes (z = baseZ) are tagged
+// kFixedAll. Fibre frames are the identity.
+struct EllipsoidShape {
+  double endoShort = 0.007, endoLong = 0.017;  // r_s, r_l at t = 0 (m)
+  double epiShort = 0.010, epiLong = 0.020;    // at t = 1
+  double baseZ = 0.005;
+  int transmural = 2;        // cells through the wall
+  int meridional = 8;        // cells from apex to base
+  int circumferential = 16;  // cells around
+};
+
+Mesh truncatedEllipsoid(const EllipsoidShape& shape, TetSplit split = TetSplit::kNone);
+// The index of the node of layer k (0 .. transmural), ring i (0 = the apex .. meridional),
+// column j (0 .. circumferential - 1; any j at the apex).
+int ellipsoidNode(const EllipsoidShape& shape, int k, int i, int j);
+
 }  // namespace tt

@@ -25,6 +25,11 @@ class ForceModel {
   // Potential energy in J at x (0 where the model has none).
   virtual double energy(const Eigen::VectorXd& x) const = 0;
   virtual bool hasEnergy() const { return true; }
+  // True for a load without a potential whose force follows the deformation (a follower
+  // pressure, hasEnergy() false): the quasistatic equilibrium's line search then judges steps
+  // by the other models' energy minus the work of this load held at the force it has at the
+  // Newton iteration's start (solve/equilibrium.h), rather than by the residual alone.
+  virtual bool isFollowerLoad() const { return false; }
   // True for body loads such as gravity, whose energy is not elastic (logs report it apart).
   virtual bool isBodyLoad() const { return false; }
   // True when inverted or flat elements are states the model handles: its energy keeps

@@ -23,7 +23,12 @@
 // Pi(x) = sum of the models' energies - f_ext . x (the energies the force pass returns, so a
 // trial costs one force evaluation; Armijo's condition,
 // Pi(x + a dx) <= Pi(x) - c a f . dx), or, when a model has no energy, on the residual norm
-// (|f(x + a dx)| <= (1 - c a) |f(x)|). Near the solution the energy change can fall below
+// (|f(x + a dx)| <= (1 - c a) |f(x)|). Follower loads (ForceModel::isFollowerLoad, e.g. a
+// follower pressure) have no energy; when they are the only such models the merit is Pi with
+// their force held at its value g_k at the Newton iteration's start, Pi_k(x) = energies -
+// (f_ext + g_k) . x, whose slope at x_k is the full residual's, as for a dead load. (On a
+// slender beam the full Newton step raises the residual a hundredfold while lowering Pi_k: the
+// residual test took steps of 1/1000 and hundreds of iterations per load step.) Near the solution the energy change can fall below
 // its round-off (1e-12 of the energy); a step of at least 1/8 of Newton's whose energy change
 // is within round-off is then taken when it passes Armijo's test or lowers the residual. A
 // shorter one is refused: it lands in the round-off where the energy refused the longer ones,
@@ -226,6 +231,12 @@ class EquilibriumSolver {
   double potential_ = 0.0;          // at the current x (with f_)
   KrylovWorkspace krylov_;
   bool hasEnergy_ = true;
+  // With follower loads: their force at the current Newton iteration's start (the merit's
+  // dead load); empty without.
+  bool holdsFollowerLoads_ = false;
+  Eigen::VectorXd heldLoad_, followerScratch_;
+  // Refreshes heldLoad_ to the follower loads' force at x and potential_ with it.
+  void holdFollowerLoads(const System& system, const Eigen::VectorXd& x);
   PseudoTimeRecovery recovery_;
 };
 

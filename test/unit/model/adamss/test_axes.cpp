@@ -56,7 +56,7 @@ NodeMatrix<N> randomOffsets(std::mt19937& rng, double amplitude) {
   return d;
 }
 
-NodeMatrix<4> randomTet(std::mt19937& rng, double h) {
+NodeMatrix<4> axesRandomTet(std::mt19937& rng, double h) {
   for (;;) {
     NodeMatrix<4> X = h * (unitTet() + randomOffsets<4>(rng, 0.3));
     Eigen::Matrix3d Dm;
@@ -210,7 +210,7 @@ TEST(AdamssAxes, TetsMatchTheThesisProcedure) {
   std::mt19937 rng(3);
   for (int trial = 0; trial < 200; ++trial) {
     const double h = 0.01;
-    const NodeMatrix<4> X = randomTet(rng, h) + NodeMatrix<4>::Constant(0.05);
+    const NodeMatrix<4> X = axesRandomTet(rng, h) + NodeMatrix<4>::Constant(0.05);
     // Any three independent axes (the ray casting does not need them orthogonal).
     Eigen::Matrix3d axes = randomRotation(rng);
     if (trial % 2) axes += randomOffsets<3>(rng, 0.3);
@@ -273,7 +273,7 @@ TEST(AdamssAxes, AffineImagesGiveTheSameCoefficients) {
     const Eigen::Vector3d b(1.0, -2.0, 3.0);
     const Eigen::Matrix3d axes = randomRotation(rng);
 
-    const NodeMatrix<4> T = randomTet(rng, 0.01);
+    const NodeMatrix<4> T = axesRandomTet(rng, 0.01);
     AxisRest<Tet4> tet, tetMapped;
     ASSERT_TRUE(tetAxisRest(T, axes, tet));
     ASSERT_TRUE(tetAxisRest((A * T).colwise() + b, A * axes, tetMapped));
@@ -301,7 +301,7 @@ TEST(AdamssAxes, AffineImagesGiveTheSameCoefficients) {
 TEST(AdamssAxes, PointDifferencesAreShapeFunctionGradientsOnTets) {
   std::mt19937 rng(11);
   for (int trial = 0; trial < 50; ++trial) {
-    const NodeMatrix<4> X = randomTet(rng, 0.01);
+    const NodeMatrix<4> X = axesRandomTet(rng, 0.01);
     AxisRest<Tet4> r;
     ASSERT_TRUE(tetAxisRest(X, randomRotation(rng), r));
     Eigen::Matrix<double, 3, 4> X3 = X;
@@ -354,7 +354,7 @@ TEST(AdamssAxes, DistributionKeepsResultantMomentAndWork) {
     EXPECT_NEAR((fq.array() * vq.array()).sum(), (fe.array() * v.array()).sum(), 1e-14) << what;
   };
   for (int trial = 0; trial < 20; ++trial) {
-    const NodeMatrix<4> T = randomTet(rng, 0.5);
+    const NodeMatrix<4> T = axesRandomTet(rng, 0.5);
     AxisRest<Tet4> tet;
     ASSERT_TRUE(tetAxisRest(T, randomRotation(rng), tet));
     check(T, tet, "tet");

@@ -21,7 +21,7 @@ namespace {
 
 using namespace testutil;
 
-Mesh jitteredHexes(std::mt19937& rng) {
+Mesh springJitteredHexes(std::mt19937& rng) {
   Mesh m = boxGrid(3, 3, 2, Eigen::Vector3d(0.01, 0.01, 0.006), TetSplit::kNone);
   std::uniform_real_distribution<double> u(-5e-4, 5e-4);
   for (int n = 0; n < m.numNodes(); ++n)
@@ -52,11 +52,11 @@ TorsionSpringParameters cubicTorsion(bool cosine, bool gradient, bool area) {
   return p;
 }
 
-Eigen::Vector3d netForce(const Eigen::VectorXd& f) {
+Eigen::Vector3d springNetForce(const Eigen::VectorXd& f) {
   return f.reshaped(3, f.size() / 3).rowwise().sum();
 }
 
-Eigen::Vector3d netMoment(const Eigen::VectorXd& x, const Eigen::VectorXd& f) {
+Eigen::Vector3d springNetMoment(const Eigen::VectorXd& x, const Eigen::VectorXd& f) {
   Eigen::Vector3d m = Eigen::Vector3d::Zero();
   for (int n = 0; n < x.size() / 3; ++n) m += x.segment<3>(3 * n).cross(f.segment<3>(3 * n));
   return m;
@@ -90,7 +90,7 @@ TEST(AdamssSprings, StretchedCubeHandComputed) {
 TEST(AdamssSprings, AxialForceIsTheEnergyGradientAndStiffnessItsDerivative) {
   std::mt19937 rng(21);
   const Mesh tets = boxMesh(2, 2, 1, 0.01, rng, 0.15);
-  const Mesh hexes = jitteredHexes(rng);
+  const Mesh hexes = springJitteredHexes(rng);
   for (const Mesh* mesh : {&tets, &hexes})
     for (bool area : {false, true}) {
       SCOPED_TRACE(std::string(mesh->hexes.empty() ? "tets" : "hexes") + (area ? ", area" : ""));
@@ -105,15 +105,15 @@ TEST(AdamssSprings, AxialForceIsTheEnergyGradientAndStiffnessItsDerivative) {
       Eigen::VectorXd Kd = Eigen::VectorXd::Zero(x.size());
       model.addStiffnessTimes(x, d, 1.0, Kd);
       EXPECT_LT(relDiff(Kd, Eigen::VectorXd(K * d)), 1e-12);
-      EXPECT_LT(netForce(f).norm(), 1e-12 * f.norm());
-      EXPECT_LT(netMoment(x, f).norm(), 1e-12 * f.norm());
+      EXPECT_LT(springNetForce(f).norm(), 1e-12 * f.norm());
+      EXPECT_LT(springNetMoment(x, f).norm(), 1e-12 * f.norm());
     }
 }
 
 TEST(AdamssSprings, GradientTorsionForceIsTheEnergyGradientWithNoNetForceOrMoment) {
   std::mt19937 rng(22);
   const Mesh tets = boxMesh(2, 2, 1, 0.01, rng, 0.15);
-  const Mesh hexes = jitteredHexes(rng);
+  const Mesh hexes = springJitteredHexes(rng);
   for (const Mesh* mesh : {&tets, &hexes})
     for (bool cosine : {false, true})
       for (bool area : {false, true}) {
@@ -124,8 +124,8 @@ TEST(AdamssSprings, GradientTorsionForceIsTheEnergyGradientWithNoNetForceOrMomen
         const Eigen::VectorXd x = perturbed(*mesh, 8e-4, rng);
         const Eigen::VectorXd f = force(model, x);
         EXPECT_LT(relDiff(f, Eigen::VectorXd(-fdGradient(model, x, 1e-8))), 1e-6);
-        EXPECT_LT(netForce(f).norm(), 1e-12 * f.norm());
-        EXPECT_LT(netMoment(x, f).norm(), 1e-12 * f.norm() * 0.01);
+        EXPECT_LT(springNetForce(f).norm(), 1e-12 * f.norm());
+        EXPECT_LT(springNetMoment(x, f).norm(), 1e-12 * f.norm() * 0.01);
       }
 }
 
@@ -135,7 +135,7 @@ TEST(AdamssSprings, GradientTorsionForceIsTheEnergyGradientWithNoNetForceOrMomen
 TEST(AdamssSprings, GradientTorsionStiffnessIsTheForceDerivative) {
   std::mt19937 rng(24);
   const Mesh tets = boxMesh(2, 2, 1, 0.01, rng, 0.15);
-  const Mesh hexes = jitteredHexes(rng);
+  const Mesh hexes = springJitteredHexes(rng);
   for (const Mesh* mesh : {&tets, &hexes})
     for (bool cosine : {false, true})
       for (bool area : {false, true}) {
@@ -181,8 +181,8 @@ TEST(AdamssSprings, PrintedTorsionForcesHaveTheClosedFormMoment) {
     const double theta = cosine ? ul.dot(um) - rest : std::acos(ul.dot(um)) - std::acos(rest);
     const Eigen::Vector3d expected =
         -0.7 * theta * (zeta.col(0).norm() - zeta.col(1).norm()) * ul.cross(um);
-    EXPECT_LT(netForce(f).norm(), 1e-12 * f.norm());
-    EXPECT_LT((netMoment(x, f) - expected).norm(), 1e-10 * expected.norm());
+    EXPECT_LT(springNetForce(f).norm(), 1e-12 * f.norm());
+    EXPECT_LT((springNetMoment(x, f) - expected).norm(), 1e-10 * expected.norm());
     EXPECT_GT(expected.norm(), 1e-3 * f.norm() * 1e-2);  // the moment is there
   }
 }
@@ -218,7 +218,7 @@ Eigen::VectorXd frictionForce(const ForceModel& model, const Eigen::VectorXd& x,
 TEST(AdamssSprings, FrictionVelocityJacobianDissipationAndRigidMotion) {
   std::mt19937 rng(25);
   const Mesh tets = boxMesh(2, 2, 1, 0.01, rng, 0.15);
-  const Mesh hexes = jitteredHexes(rng);
+  const Mesh hexes = springJitteredHexes(rng);
   using Form = AxisFrictionForm;
   for (const Mesh* mesh : {&tets, &hexes})
     for (Form form : {Form::kBourguignon, Form::kArea, Form::kVirtualHexahedron}) {
@@ -265,7 +265,7 @@ TEST(AdamssSprings, FrictionVelocityJacobianDissipationAndRigidMotion) {
 TEST(AdamssSprings, VolumeSpringsRestoreTheVolume) {
   std::mt19937 rng(26);
   const Mesh tets = boxMesh(2, 1, 1, 0.01, rng, 0.15);
-  const Mesh hexes = jitteredHexes(rng);
+  const Mesh hexes = springJitteredHexes(rng);
   for (const Mesh* mesh : {&tets, &hexes}) {
     SCOPED_TRACE(mesh->hexes.empty() ? "tets" : "hexes");
     for (bool gradient : {false, true}) {
@@ -284,10 +284,10 @@ TEST(AdamssSprings, VolumeSpringsRestoreTheVolume) {
       const Eigen::VectorXd f = force(model, x);
       if (gradient) {
         EXPECT_LT(relDiff(f, Eigen::VectorXd(-fdGradient(model, x, 1e-8))), 1e-6);
-        EXPECT_LT(netForce(f).norm(), 1e-12 * f.norm());
-        EXPECT_LT(netMoment(x, f).norm(), 1e-12 * f.norm() * 0.01);
+        EXPECT_LT(springNetForce(f).norm(), 1e-12 * f.norm());
+        EXPECT_LT(springNetMoment(x, f).norm(), 1e-12 * f.norm() * 0.01);
       } else {
-        EXPECT_GT(netForce(f).norm(), 1e-3 * f.norm());
+        EXPECT_GT(springNetForce(f).norm(), 1e-3 * f.norm());
       }
     }
   }
