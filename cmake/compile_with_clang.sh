@@ -6,12 +6,7 @@
 # tests' template-heavy batches about three times faster than g++ 12 (docs/building.md).
 compiler="$1"
 shift
-if command -v clang++ >/dev/null 2>&1; then
-  # A precompiled header without its build time inside, so that ccache can reuse it.
-  if command -v ccache >/dev/null 2>&1; then
-    exec ccache clang++ -Xclang -fno-pch-timestamp "$@"
-  fi
-  exec clang++ "$@"
-fi
-if command -v ccache >/dev/null 2>&1; then exec ccache "$compiler" "$@"; fi
-exec "$compiler" "$@"
+cache=""
+command -v ccache >/dev/null 2>&1 && cache=ccache
+command -v clang++ >/dev/null 2>&1 && compiler=clang++
+exec $cache "$compiler" "$@"
