@@ -16,10 +16,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "common/command_line.h"
+#include "common/liver_bench_scene.h"
 #include "tissue_trainer/core/integrate/integrator.h"
 #include "tissue_trainer/core/scene/scene.h"
 
@@ -29,35 +32,30 @@ using namespace tt;
 
 constexpr double kConsensusZ = 4.17;  // mm, Fig. 3 of the paper
 
+// The shipped scene (config/scenes/land_beam.yaml, 20 x 2 x 2 hexes, ten load steps) with its
+// mesh, split, penalty and load steps replaced.
 std::string beamScene(int n, const std::string& split, double bulkModulus, int loadSteps) {
-  const double frame = 1.0 / loadSteps;
-  char text[2048];
-  std::snprintf(text, sizeof text, R"(name: land_problem_1
-mesh: {generator: box, nodes: [%d, %d, %d], size: [0.01, 0.001, 0.001], split: %s}
-fibres: {direction: [1, 0, 0], sheet: [0, 1, 0]}
-materials:
-  - density: 1000
-    stress_unit: kPa
-    guccione: {C: 2, b_f: 8, b_t: 2, b_fs: 4, bulk_modulus: %.17g}
-force_models:
-  - {type: hyperelastic, law: guccione}
-  - type: follower_pressure
-    surface: {plane: {point: [0, 0, 0], normal: [0, 0, 1]}}
-    stress_unit: kPa
-    pressure: {type: piecewise_linear, times: [0, 1], values: [0, 0.004]}
-integrator:
-  type: quasistatic
-  preconditioner: cholesky
-  newton_abs_tolerance: 1e-13
-  newton_tolerance: 1e-10
-  max_newton_iterations: 200
-boundary:
-  fixed:
-    - plane: {point: [0, 0, 0], normal: [1, 0, 0]}
-run: {frame_time: %.17g, duration: 1}
-)",
-                10 * n + 1, n + 1, n + 1, split.c_str(), bulkModulus, frame);
-  return text;
+  const std::filesystem::path path =
+      std::filesystem::path(bench::sourceDir()) / "config" / "scenes" / "land_beam.yaml";
+  std::ifstream file(path);
+  std::stringstream text;
+  text << file.rdbuf();
+  std::string scene = text.str();
+  const auto replace = [&scene, &path](const std::string& from, const std::string& to) {
+    const size_t at = scene.find(from);
+    if (at == std::string::npos)
+      throw std::runtime_error(path.string() + ": expected '" + from + "' in the shipped scene");
+    scene.replace(at, from.size(), to);
+  };
+  const std::string nodes = std::to_string(n + 1);
+  replace("nodes: [21, 3, 3]", "nodes: [" + std::to_string(10 * n + 1) + ", " + nodes + ", " + nodes + "]");
+  replace("split: none", "split: " + split);
+  char number[64];
+  std::snprintf(number, sizeof number, "bulk_modulus: %.17g", bulkModulus);
+  replace("bulk_modulus: 100", number);
+  std::snprintf(number, sizeof number, "frame_time: %.17g", 1.0 / loadSteps);
+  replace("frame_time: 0.1", number);
+  return scene;
 }
 
 struct BeamResult {
