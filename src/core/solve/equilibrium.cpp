@@ -15,6 +15,44 @@ std::string number(double value) {
   return text;
 }
 
+// y = -df/dx v over the free DOFs by a forward difference of the force at x (f its free force
+// there), the constrained rows identity. The difference step is the usual
+// sqrt(epsilon) (1 + |x|) / |v| (Knoll and Keyes, Sec. 2.2).
+class NegativeForceDerivative final : public LinearOperator {
+ public:
+  NegativeForceDerivative(const System& system, const Eigen::VectorXd& x,
+                          const Eigen::VectorXd& f, const Eigen::VectorXd& zeroVelocity,
+                          Eigen::VectorXd& shiftedX, Eigen::VectorXd& shiftedF, int& evaluations)
+      : system_(system), x_(x), f_(f), zeroVelocity_(zeroVelocity), shiftedX_(shiftedX),
+        shiftedF_(shiftedF), evaluations_(evaluations), xScale_(1.0 + x.norm()) {}
+
+  Eigen::Index size() const override { return x_.size(); }
+
+  void apply(const Eigen::VectorXd& v, Eigen::VectorXd& y) const override {
+    y = v;
+    shiftedX_ = v;
+    system_.zeroConstrained(shiftedX_);
+    const double length = shiftedX_.norm();
+    if (!(length > 0.0)) return;
+    const double h = std::sqrt(std::numeric_limits<double>::epsilon()) * xScale_ / length;
+    shiftedX_ = x_ + h * shiftedX_;
+    system_.computeForce(shiftedX_, zeroVelocity_, shiftedF_);
+    ++evaluations_;
+    for (Eigen::Index i = 0; i < y.size(); ++i)
+      if (!system_.isConstrained[i]) y[i] = (f_[i] - shiftedF_[i]) / h;
+  }
+
+ private:
+  const System& system_;
+  const Eigen::VectorXd& x_;
+  const Eigen::VectorXd& f_;
+  const Eigen::VectorXd& zeroVelocity_;
+  Eigen::VectorXd& shiftedX_;
+  Eigen::VectorXd& shiftedF_;
+  int& evaluations_;
+  double xScale_;
+};
+
 }  // namespace
 
 const char* stopName(EquilibriumStop stop) {
@@ -143,7 +181,8 @@ bool EquilibriumSolver::newtonDirection(const System& system, const Eigen::Vecto
 constexpr double kShortestRoundOffStep = 1.0 / 8.0;
 
 bool EquilibriumSolver::lineSearch(const System& system, Eigen::VectorXd& x, double& residual,
-                                   EquilibriumReport& report) {
+                                   EquilibriumReport& report, Merit merit) {
+  const bool byEnergy = hasEnergy_ && merit == Merit::kEnergy;
   const double energy0 = potential_;
   const double slope = f_.dot(dx_);  // -dPi/da at a = 0
   double step = 1.0;
@@ -153,7 +192,7 @@ bool EquilibriumSolver::lineSearch(const System& system, Eigen::VectorXd& x, dou
     const double r = residualAt(system, trial_, trialF_, energy, report);
     if (!std::isfinite(r)) continue;
     bool accepted;
-    if (hasEnergy_) {
+    if (byEnergy) {
       if (!std::isfinite(energy)) continue;
       // An energy change within the energy's round-off says nothing about the step: near the
       // solution it is judged by the residual. Not below kShortestRoundOffStep: a step cut
@@ -173,10 +212,71 @@ bool EquilibriumSolver::lineSearch(const System& system, Eigen::VectorXd& x, dou
       f_.swap(trialF_);
       potential_ = energy;
       residual = r;
+      lastStep_ = step;
       return true;
     }
   }
   return false;
+}
+
+bool EquilibriumSolver::forceDerivativeDirection(const System& system, const Eigen::VectorXd& x,
+                                                 EquilibriumReport& report) {
+  const Preconditioner* M = linear_.factor(A_.rows());
+  if (!M) {
+    derivativeJacobi_.setDiagonal(diagonalValues_);  // the identity where an entry is zero
+    M = &derivativeJacobi_;
+  }
+  int evaluations = 0;
+  const NegativeForceDerivative derivative(system, x, f_, zeroVelocity_, differenceX_,
+                                           differenceF_, evaluations);
+  const SolveSettings settings{kDerivativeTolerance, kDerivativeIterations,
+                               kDerivativeIterations};
+  dx_ = stiffnessDx_;
+  const SolveReport solved = gmres(derivative, f_, dx_, *M, settings, krylov_);
+  report.forceEvaluations += evaluations;
+  report.linearIterations += solved.iterations;
+  // Far from kDerivativeTolerance (a preconditioner far from the derivative) the step is no
+  // Newton step; within kDerivativeForcing it is an inexact one that still converges fast.
+  return solved.relativeResidual <= kDerivativeForcing && dx_.allFinite();
+}
+
+// The step on the force's own derivative descends |f|^2 (f . (df/dx) dx = -|f|^2), not
+// necessarily the energy, from which the force at a clamped element does not derive: its line
+// search judges the residual.
+bool EquilibriumSolver::derivativeStep(const System& system, Eigen::VectorXd& x,
+                                       double& residual, EquilibriumReport& report) {
+  if (!forceDerivativeDirection(system, x, report) ||
+      !lineSearch(system, x, residual, report, Merit::kResidual))
+    return false;
+  ++report.derivativeSteps;
+  return true;
+}
+
+bool EquilibriumSolver::takeStep(const System& system, Eigen::VectorXd& x, double& residual,
+                                 EquilibriumReport& report) {
+  stiffnessDx_ = dx_;
+  if (onDerivative_) {
+    if (derivativeStep(system, x, residual, report)) return true;
+    onDerivative_ = false;
+    slowIterations_ = 0;
+    dx_ = stiffnessDx_;
+  }
+  // Not a descent direction of the energy (an indefinite matrix CG did not notice):
+  // the scaled force is.
+  const bool gradient = hasEnergy_ && !(f_.dot(dx_) > 0.0);
+  if (gradient) {
+    ++report.gradientSteps;
+    scaledForceDirection();
+  }
+  if (lineSearch(system, x, residual, report)) return true;
+  if (!gradient) {
+    ++report.gradientSteps;
+    scaledForceDirection();
+    if (lineSearch(system, x, residual, report)) return true;
+  }
+  // The energy refused both (at clamped elements the force is not its gradient): the force's
+  // own derivative, unless it was just refused.
+  return !onDerivative_ && hasEnergy_ && derivativeStep(system, x, residual, report);
 }
 
 // An unshifted Newton step of a few units in the last place of the positions: the residual
@@ -216,6 +316,9 @@ EquilibriumReport EquilibriumSolver::solve(const System& system, Eigen::VectorXd
                                     [](const auto& m) { return m->isFollowerLoad(); });
   zeroVelocity_.setZero(x.size());
   if (holdsFollowerLoads_) heldLoad_.setZero(x.size());
+  slowIterations_ = 0;
+  onDerivative_ = false;
+  recovery_.start();
   double residual = residualAt(system, x, f_, potential_, report);
   report.initialResidual = report.residual = residual;
   report.residualHistory.push_back(residual);
@@ -252,21 +355,9 @@ EquilibriumReport EquilibriumSolver::solve(const System& system, Eigen::VectorXd
       report.atRoundOff = true;
       break;
     }
-    // Not a descent direction of the energy (an indefinite matrix CG did not notice):
-    // the scaled force is.
-    bool gradient = hasEnergy_ && !(f_.dot(dx_) > 0.0);
-    if (gradient) {
-      ++report.gradientSteps;
-      scaledForceDirection();
-    }
     holdFollowerLoads(system, x);
-    bool moved = lineSearch(system, x, residual, report);
-    if (!moved && !gradient) {
-      ++report.gradientSteps;
-      scaledForceDirection();
-      moved = lineSearch(system, x, residual, report);
-    }
-    if (!moved) {
+    const double residualBefore = residual;
+    if (!takeStep(system, x, residual, report)) {
       if (recovery_.run(system, params, target, x, f_, residual, report)) {
         potential_ = potentialAfterRecovery(system, x, report);
         continue;
@@ -280,6 +371,16 @@ EquilibriumReport EquilibriumSolver::solve(const System& system, Eigen::VectorXd
     ++report.newtonIterations;
     report.residual = residual;
     report.residualHistory.push_back(residual);
+    // Linear convergence on the stiffness's full steps switches to the force's derivative;
+    // a derivative step that does no better switches back.
+    const bool slow = residual > kLinearRate * residualBefore;
+    slowIterations_ = slow && lastStep_ == 1.0 ? slowIterations_ + 1 : 0;
+    if (onDerivative_ && slow) {
+      onDerivative_ = false;
+      slowIterations_ = 0;
+    } else if (slowIterations_ >= kSlowIterations) {
+      onDerivative_ = true;
+    }
   }
   return report;
 }

@@ -77,9 +77,11 @@ int PseudoTimeRecovery::invertedElements(const System& system, const Eigen::Vect
   return static_cast<int>(corruptCheck_.find(nodes, 0.0).size());
 }
 
+void PseudoTimeRecovery::start() { settledInverted_ = 0; }
+
 bool PseudoTimeRecovery::wanted(const System& system, const EquilibriumParams& params,
                                 const Eigen::VectorXd& x, const EquilibriumReport& report) {
-  return stepsLeft(params, report) && invertedElements(system, x) > 0;
+  return stepsLeft(params, report) && invertedElements(system, x) > settledInverted_;
 }
 
 bool PseudoTimeRecovery::run(const System& system, const EquilibriumParams& params,
@@ -102,6 +104,7 @@ bool PseudoTimeRecovery::run(const System& system, const EquilibriumParams& para
     if (!(weight_[i] > 0.0)) weight_[i] = meanMass;
 
   double tau = 0.0;
+  int newtonSizedSteps = 0;
   bool moved = true;  // the matrix is assembled anew only where a step was taken
   while (stepsLeft(params, report)) {
     if (moved) {
@@ -110,8 +113,18 @@ bool PseudoTimeRecovery::run(const System& system, const EquilibriumParams& para
       // Without stiffness the steps are the masses' alone: 1 N/m stands in for its scale.
       if (!(meanDiagonal > 0.0)) meanDiagonal = 1.0;
       if (tau == 0.0) tau = meanMass / (params.pseudoTimeInitialRatio * meanDiagonal);
-      if (meanMass / tau <= kHandOff * meanDiagonal && invertedElements(system, x) == 0)
-        return true;
+      if (meanMass / tau <= kHandOff * meanDiagonal) {
+        // The steps have become Newton's. Elements still inverted after kSettleSteps of them
+        // are part of the equilibrium (an inversion-handled law pushes back on them with a
+        // finite force): Newton goes on from here and the recovery is wanted again only for
+        // more of them.
+        const int inverted = invertedElements(system, x);
+        if (inverted == 0) return true;
+        if (++newtonSizedSteps >= kSettleSteps) {
+          settledInverted_ = inverted;
+          return true;
+        }
+      }
     }
     moved = tryStep(system, params, tau, x, f, residual, report);
     if (!moved) {

@@ -65,27 +65,55 @@ std::unique_ptr<System> compressedBlock() {
 // Quasistatic frames of 1 ms (the scene's tolerances, 1e-9 N) through the compression to
 // 64 % (t = 0.159 s): every frame must converge. While the line search took steps inside the
 // energy's round-off whose residual hardly moved, frame 154 (62 %) crept for 50 Newton
-// iterations (0.0432 N) with no pseudo-time step and failed. Refused, they end the line search
-// and the recovery takes those frames to the tolerance. (From frame 160 on Newton converges
-// only linearly, about 0.7 per iteration: the tangent at the clamped elements is not the
-// derivative of their force, material/law_point.h; the frames there need more than 50.)
+// iterations (0.0432 N) with no pseudo-time step and failed. Refused, they end the energy's
+// line search, and frames 154-159 are taken to the tolerance by the step on the force's own
+// derivative, judged by the residual (before that step existed, by the pseudo-time recovery:
+// 11 recoveries, 73 pseudo-time steps).
 TEST(EquilibriumStall, CompressedMuscleWithInversionHandlingConvergesEveryFrame) {
   auto s = compressedBlock();
   QuasistaticIntegrator integrator;
-  int recoveries = 0, pseudoTimeSteps = 0, worstNewton = 0;
+  int rescued = 0, pseudoTimeSteps = 0, worstNewton = 0;
   for (int frame = 1; frame <= 159; ++frame) {
     const StepReport step = integrator.advance(*s, 1e-3);
     const EquilibriumReport& r = integrator.lastReport();
     ASSERT_TRUE(step.ok) << "frame " << frame << ": " << step.failure << " (" << r.recoveries
                          << " recoveries, " << r.pseudoTimeSteps << " pseudo-time steps)";
-    if (frame >= 154) recoveries += r.recoveries;
+    if (frame >= 154) rescued += r.derivativeSteps + r.recoveries;
     pseudoTimeSteps += r.pseudoTimeSteps;
     worstNewton = std::max(worstNewton, r.newtonIterations);
   }
   std::printf("[ measured ] 80 %% compression to t = 0.159 s: every frame converged; %d "
-              "recoveries in frames 154-159, %d pseudo-time steps, at most %d Newton iterations "
-              "in a frame\n", recoveries, pseudoTimeSteps, worstNewton);
-  EXPECT_GT(recoveries, 0);
+              "derivative steps or recoveries in frames 154-159, %d pseudo-time steps, at most "
+              "%d Newton iterations in a frame\n", rescued, pseudoTimeSteps, worstNewton);
+  EXPECT_GT(rescued, 0);
+}
+
+// The whole extreme case of the stability report: compression to 80 % over 0.2 s, then held
+// to 0.3 s, frames of 1 ms. From frame 160 on the assembled tangent converged about 0.7 per
+// iteration and frame 160 stopped at 50 Newton iterations (3.9e-9 N against 1e-9 N); the
+// Newton-Krylov steps on the force's own derivative (solve/equilibrium.h) take over after two
+// such iterations, and where the energy refuses the assembled tangent's step. Every frame
+// must converge, and the Jacobian-free steps must be what did it: with them no frame needs more
+// than half the iteration limit.
+TEST(EquilibriumStall, EightyPercentCompressionConvergesEveryFrameOnTheForceDerivative) {
+  auto s = compressedBlock();
+  QuasistaticIntegrator integrator;
+  int derivativeSteps = 0, worstNewton = 0, worstFrame = 0;
+  for (int frame = 1; frame <= 300; ++frame) {
+    const StepReport step = integrator.advance(*s, 1e-3);
+    const EquilibriumReport& r = integrator.lastReport();
+    ASSERT_TRUE(step.ok) << "frame " << frame << ": " << step.failure;
+    derivativeSteps += r.derivativeSteps;
+    if (r.newtonIterations > worstNewton) {
+      worstNewton = r.newtonIterations;
+      worstFrame = frame;
+    }
+  }
+  std::printf("[ measured ] 80 %% compression held to t = 0.3 s: every frame converged; %d "
+              "Jacobian-free Newton steps, at most %d Newton iterations (frame %d)\n",
+              derivativeSteps, worstNewton, worstFrame);
+  EXPECT_GT(derivativeSteps, 0);
+  EXPECT_LE(worstNewton, EquilibriumParams{}.maxNewtonIterations / 2);
 }
 
 }  // namespace

@@ -36,6 +36,21 @@
 // iterations and the recovery below never started (80 % compression of a muscle block with
 // inversion handling, test_equilibrium_stall.cpp).
 //
+// Where the assembled stiffness is not the force's derivative (at the clamped elements of the
+// inversion handling, material/law_point.h, or with PSD-projected tangents) Newton converges
+// only linearly: in 80 % compression of a muscle block about 0.7 per iteration, more than the
+// 50 iterations of a frame. After kSlowIterations full steps in a row that each left more than
+// kLinearRate of the residual, the solve takes Jacobian-free Newton-Krylov steps (D. A. Knoll
+// and D. E. Keyes, "Jacobian-free Newton-Krylov methods: a survey of approaches and
+// applications", J. Comput. Phys. 193, 2004): GMRES on the force's own derivative, its
+// products -df/dx v by a forward difference of the force (one force pass each), started from
+// the stiffness's step and preconditioned by the stiffness's factor (or its diagonal), their
+// line search on the residual norm (a Newton step on the force's derivative descends |f|^2,
+// not the energy, from which the force at a clamped element does not derive). Kept while each
+// lowers the residual by more than kLinearRate; a refused one falls back to the stiffness's
+// step. The same step is tried where the energy's line search refuses both the stiffness's
+// step and the scaled force, before the pseudo-time recovery below.
+//
 // When no step length is accepted (with the threshold-clamped inversion handling of
 // material/law_point.h the force at a clamped element is not the energy's gradient, and a
 // fully inverted body gets stuck here), or when an element is inverted at the start of a
@@ -109,6 +124,7 @@ struct EquilibriumReport {
   int linearIterations = 0;  // CG iterations over all solves (shifted ones included)
   int shiftedSolves = 0;     // Newton steps whose matrix needed a shift
   int gradientSteps = 0;     // Newton steps that fell back to the scaled force
+  int derivativeSteps = 0;   // Newton steps on the force's own derivative (Jacobian-free)
   int forceEvaluations = 0;  // force passes: the start and every line-search trial
   int factorizations = 0;    // Cholesky factorisations made
   int recoveries = 0;        // times Newton handed over to the pseudo-time steps
@@ -139,8 +155,11 @@ struct EquilibriumReport {
 // long as the force stays finite, CG meets no non-positive curvature and the residual does
 // not grow more than kRejectGrowth-fold; otherwise the step is redone with tau / 4 (counted in
 // rejectedPseudoTimeSteps). Each accepted step multiplies tau by |f_before| / |f_after|, by
-// kGrowth at most and 1 / kGrowth at least. Back to Newton once no element is inverted and
-// mean M / tau <= kHandOff mean |diag(-K)| (the steps have become Newton's).
+// kGrowth at most and 1 / kGrowth at least. Back to Newton once
+// mean M / tau <= kHandOff mean |diag(-K)| (the steps have become Newton's) and no element is
+// inverted; elements still inverted after kSettleSteps such steps belong to the equilibrium of
+// an inversion-handled law (80 % compression of a muscle block keeps about two dozen): Newton
+// takes over with them, and the recovery is wanted again only for more.
 //
 // Why near Newton: started with a large mass term (short steps, close to the overdamped flow)
 // a fully inverted muscle block settles in another, folded equilibrium of higher energy;
@@ -151,10 +170,15 @@ class PseudoTimeRecovery {
   static constexpr double kGrowth = 10.0;
   static constexpr double kRejectGrowth = 100.0;
   static constexpr double kHandOff = 1e-6;
+  // Newton-sized steps after which elements still inverted count as part of the equilibrium
+  // (the fully inverted muscle block of test_muscle_inversion.cpp needs 18 steps in all).
+  static constexpr int kSettleSteps = 20;
 
+  // At the start of a solve.
+  void start();
   // Whether the recovery should take over at x: steps left in params.maxPseudoTimeSteps
   // (over the whole solve, rejected steps included) and an element inverted or flat
-  // (mesh/corrupt_elements.h, volume <= 0).
+  // (mesh/corrupt_elements.h, volume <= 0), more of them than at the last hand-off.
   bool wanted(const System& system, const EquilibriumParams& params, const Eigen::VectorXd& x,
               const EquilibriumReport& report);
   // From x (f the free residual there, residual = |f|) until the hand-off or residual <=
@@ -186,6 +210,7 @@ class PseudoTimeRecovery {
       zeroVelocity_;
   LinearSolve linear_{{}, LinearSolveRule::newtonDirections()};
   CorruptElementCheck corruptCheck_;
+  int settledInverted_ = 0;  // elements inverted at the last hand-off of this solve
   const Mesh* checkedMesh_ = nullptr;  // the mesh corruptCheck_ was built for
   int checkedElements_ = 0;            // and its number of tets and hexes then
 };
@@ -193,6 +218,12 @@ class PseudoTimeRecovery {
 // Keeps the matrices, vectors and preconditioners between solves (no allocation once sized).
 class EquilibriumSolver {
  public:
+  static constexpr double kLinearRate = 0.5;  // residual ratio of a linearly converging step
+  static constexpr int kSlowIterations = 2;   // such full steps in a row before switching
+  static constexpr int kDerivativeIterations = 40;  // GMRES products per Jacobian-free step
+  static constexpr double kDerivativeTolerance = 1e-6;  // GMRES, relative to |f|
+  static constexpr double kDerivativeForcing = 1e-2;    // the most GMRES may leave of |f|
+
   explicit EquilibriumSolver(EquilibriumParams params = {});
   // Moves the free DOFs of x (3n; warm start) to equilibrium; the constrained DOFs of x stay
   // as given. The system's state is not touched.
@@ -219,9 +250,25 @@ class EquilibriumSolver {
   // dx_ by the linear solve (Jacobi, or a kept or new factor); false where -K is not positive
   // definite (non-positive curvature, or a refused factorisation).
   bool unshiftedDirection(EquilibriumReport& report);
-  // Backtracking along dx_ from x; false when no length was accepted.
+  // What the line search judges a step by: the total potential energy where every model has
+  // one (else the residual), or the residual norm alone.
+  enum class Merit { kEnergy, kResidual };
+  // Backtracking along dx_ from x; false when no length was accepted. lastStep_ gets the
+  // accepted length.
   bool lineSearch(const System& system, Eigen::VectorXd& x, double& residual,
-                  EquilibriumReport& report);
+                  EquilibriumReport& report, Merit merit = Merit::kEnergy);
+  // dx_ from GMRES on -df/dx dx = f_ (forward-difference products), started from the
+  // stiffness's step in stiffnessDx_; false when GMRES left more than kDerivativeForcing.
+  bool forceDerivativeDirection(const System& system, const Eigen::VectorXd& x,
+                                EquilibriumReport& report);
+  // A line search on the residual along that step; whether x moved.
+  bool derivativeStep(const System& system, Eigen::VectorXd& x, double& residual,
+                      EquilibriumReport& report);
+  // From the stiffness's step in dx_: the force's derivative step while onDerivative_, else
+  // (or where it is refused) the stiffness's step or the scaled force by the energy, and the
+  // derivative step where the energy refuses both. Whether x moved.
+  bool takeStep(const System& system, Eigen::VectorXd& x, double& residual,
+                EquilibriumReport& report);
 
   SparseMatrix A_;
   std::vector<int> diagonal_;  // offsets of the diagonal entries in A_'s values
@@ -229,6 +276,11 @@ class EquilibriumSolver {
   LinearSolve linear_{{}, LinearSolveRule::newtonDirections()};
   JacobiPreconditioner shiftedJacobi_;  // of the shifted solves
   double potential_ = 0.0;          // at the current x (with f_)
+  double lastStep_ = 0.0;           // the length the last line search accepted
+  int slowIterations_ = 0;          // full steps in a row that left > kLinearRate
+  bool onDerivative_ = false;       // Jacobian-free steps for the rest of the solve
+  Eigen::VectorXd stiffnessDx_, differenceX_, differenceF_;
+  JacobiPreconditioner derivativeJacobi_;
   KrylovWorkspace krylov_;
   bool hasEnergy_ = true;
   // With follower loads: their force at the current Newton iteration's start (the merit's
