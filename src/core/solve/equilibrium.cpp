@@ -255,7 +255,8 @@ bool EquilibriumSolver::derivativeStep(const System& system, Eigen::VectorXd& x,
 bool EquilibriumSolver::takeStep(const System& system, Eigen::VectorXd& x, double& residual,
                                  EquilibriumReport& report) {
   stiffnessDx_ = dx_;
-  if (onDerivative_) {
+  const bool derivativeTried = onDerivative_;
+  if (derivativeTried) {
     if (derivativeStep(system, x, residual, report)) return true;
     onDerivative_ = false;
     slowIterations_ = 0;
@@ -276,7 +277,7 @@ bool EquilibriumSolver::takeStep(const System& system, Eigen::VectorXd& x, doubl
   }
   // The energy refused both (at clamped elements the force is not its gradient): the force's
   // own derivative, unless it was just refused.
-  return !onDerivative_ && hasEnergy_ && derivativeStep(system, x, residual, report);
+  return !derivativeTried && hasEnergy_ && derivativeStep(system, x, residual, report);
 }
 
 // An unshifted Newton step of a few units in the last place of the positions: the residual

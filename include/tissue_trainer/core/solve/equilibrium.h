@@ -278,7 +278,7 @@ class EquilibriumSolver {
   double potential_ = 0.0;          // at the current x (with f_)
   double lastStep_ = 0.0;           // the length the last line search accepted
   int slowIterations_ = 0;          // full steps in a row that left > kLinearRate
-  bool onDerivative_ = false;       // Jacobian-free steps for the rest of the solve
+  bool onDerivative_ = false;       // Jacobian-free steps while they beat kLinearRate
   Eigen::VectorXd stiffnessDx_, differenceX_, differenceF_;
   JacobiPreconditioner derivativeJacobi_;
   KrylovWorkspace krylov_;
