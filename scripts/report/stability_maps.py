@@ -125,7 +125,13 @@ def summary(rows, critical, extremes, maps):
              "the last good frame restored). The verdict covers the run's length only: a slow "
              "growth (forward Euler at a small step) can pass it. Radau IIA at fixed steps "
              "(`radau_iia_fixed`) runs the two correct energies on their fast paths only "
-             "(`edge_length`, `tensor_mass`): the other StVK paths evaluate the same energy.", "",
+             "(`edge_length`, `tensor_mass`): the other StVK paths evaluate the same energy. "
+             "Every other integrator runs every preset of the registry: the adaptive steppers "
+             "(`backward_euler_adaptive`, `abm3`, `rk4_adaptive`) frames of h with h their "
+             "first and longest step; the quasistatic solver only the muscle tissue (the "
+             "presets with an activated model), each frame the equilibrium at its end; the "
+             "PSD-projected muscle preset only the integrators that solve with the stiffness.",
+             "",
              "| integrator | model | stable | recovered | failed | guard halvings |",
              "|---|---|---|---|---|---|"]
     counts = defaultdict(lambda: defaultdict(int))
