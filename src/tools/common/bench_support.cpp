@@ -48,6 +48,17 @@ double median(std::vector<double> values) {
   return values[mid];
 }
 
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5))];
+}
+
+std::string sourceDir() {
+  if (const char* env = std::getenv("TT_SOURCE_DIR")) return env;
+  return TT_SOURCE_ROOT;
+}
+
 std::vector<std::string> splitList(const std::string& s) {
   std::vector<std::string> items;
   std::stringstream in(s);

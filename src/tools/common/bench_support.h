@@ -1,7 +1,7 @@
 #pragma once
-// Shared by the benchmarks: the process CPU clock and the wall clock, medians, option lists,
-// the presets the registry offers, and the natural frequencies of a system at rest
-// (bench_support.cpp).
+// Shared by the benchmarks: the process CPU clock and the wall clock, medians and quantiles,
+// the repository root, option lists, the presets the registry offers, and the natural
+// frequencies of a system at rest (bench_support.cpp).
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <string>
@@ -28,6 +28,11 @@ double maxNodeDistance(const Eigen::VectorXd& a, const Eigen::VectorXd& b);
 
 // NaN when empty.
 double median(std::vector<double> values);
+// The q quantile of v (nearest rank); NaN for no values.
+double quantile(std::vector<double> v, double q);
+
+// The repository root: $TT_SOURCE_DIR, else the one the tool was built from.
+std::string sourceDir();
 
 // --- command lines ---------------------------------------------------------------------------
 

@@ -13,17 +13,6 @@
 namespace tt {
 namespace bench {
 
-std::string sourceDir() {
-  if (const char* env = std::getenv("TT_SOURCE_DIR")) return env;
-  return TT_SOURCE_ROOT;
-}
-
-double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5))];
-}
-
 std::string refinedLiver(const std::string& workDir, int target, int& tets) {
   if (std::system("command -v tetgen > /dev/null 2>&1") != 0) return "";
   const std::string dir = workDir + "/liver_" + std::to_string(target);

@@ -13,12 +13,6 @@
 namespace tt {
 namespace bench {
 
-// The repository root: $TT_SOURCE_DIR, else the one the tool was built from.
-std::string sourceDir();
-
-// The q quantile of v (nearest rank); NaN for no values.
-double quantile(std::vector<double> v, double q);
-
 // liver.msh refined by TetGen to about `target` tets in workDir/liver_<target> (the volume
 // bound adjusted by the count it gives); "" when tetgen is missing or fails.
 std::string refinedLiver(const std::string& workDir, int target, int& tets);

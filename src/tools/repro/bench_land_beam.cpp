@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "common/command_line.h"
-#include "common/liver_bench_scene.h"
+#include "common/bench_support.h"
 #include "tissue_trainer/core/integrate/integrator.h"
 #include "tissue_trainer/core/scene/scene.h"
 

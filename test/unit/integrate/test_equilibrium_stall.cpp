@@ -10,9 +10,9 @@
 
 #include <Eigen/Core>
 
-#include <algorithm>
 #include <cstdio>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "tissue_trainer/core/integrate/quasistatic.h"
@@ -62,6 +62,39 @@ std::unique_ptr<System> compressedBlock() {
   return s;
 }
 
+// What quasistatic frames of 1 ms from rest did: the first that failed (0: none) and why;
+// derivative steps and recoveries counted from frame `countFrom` on.
+struct CompressionRun {
+  int failedFrame = 0;
+  std::string failure;
+  int rescued = 0;  // derivative steps and recoveries from countFrom on
+  int derivativeSteps = 0, pseudoTimeSteps = 0, worstNewton = 0, worstFrame = 0;
+};
+
+CompressionRun compress(int frames, int countFrom) {
+  auto s = compressedBlock();
+  QuasistaticIntegrator integrator;
+  CompressionRun run;
+  for (int frame = 1; frame <= frames; ++frame) {
+    const StepReport step = integrator.advance(*s, 1e-3);
+    const EquilibriumReport& r = integrator.lastReport();
+    if (!step.ok) {
+      run.failedFrame = frame;
+      run.failure = step.failure + " (" + std::to_string(r.recoveries) + " recoveries, " +
+                    std::to_string(r.pseudoTimeSteps) + " pseudo-time steps)";
+      return run;
+    }
+    if (frame >= countFrom) run.rescued += r.derivativeSteps + r.recoveries;
+    run.derivativeSteps += r.derivativeSteps;
+    run.pseudoTimeSteps += r.pseudoTimeSteps;
+    if (r.newtonIterations > run.worstNewton) {
+      run.worstNewton = r.newtonIterations;
+      run.worstFrame = frame;
+    }
+  }
+  return run;
+}
+
 // Quasistatic frames of 1 ms (the scene's tolerances, 1e-9 N) through the compression to
 // 64 % (t = 0.159 s): every frame must converge. While the line search took steps inside the
 // energy's round-off whose residual hardly moved, frame 154 (62 %) crept for 50 Newton
@@ -70,22 +103,13 @@ std::unique_ptr<System> compressedBlock() {
 // derivative, judged by the residual (before that step existed, by the pseudo-time recovery:
 // 11 recoveries, 73 pseudo-time steps).
 TEST(EquilibriumStall, CompressedMuscleWithInversionHandlingConvergesEveryFrame) {
-  auto s = compressedBlock();
-  QuasistaticIntegrator integrator;
-  int rescued = 0, pseudoTimeSteps = 0, worstNewton = 0;
-  for (int frame = 1; frame <= 159; ++frame) {
-    const StepReport step = integrator.advance(*s, 1e-3);
-    const EquilibriumReport& r = integrator.lastReport();
-    ASSERT_TRUE(step.ok) << "frame " << frame << ": " << step.failure << " (" << r.recoveries
-                         << " recoveries, " << r.pseudoTimeSteps << " pseudo-time steps)";
-    if (frame >= 154) rescued += r.derivativeSteps + r.recoveries;
-    pseudoTimeSteps += r.pseudoTimeSteps;
-    worstNewton = std::max(worstNewton, r.newtonIterations);
-  }
+  const CompressionRun run = compress(159, 154);
+  ASSERT_EQ(run.failedFrame, 0) << "frame " << run.failedFrame << ": " << run.failure;
   std::printf("[ measured ] 80 %% compression to t = 0.159 s: every frame converged; %d "
               "derivative steps or recoveries in frames 154-159, %d pseudo-time steps, at most "
-              "%d Newton iterations in a frame\n", rescued, pseudoTimeSteps, worstNewton);
-  EXPECT_GT(rescued, 0);
+              "%d Newton iterations in a frame\n", run.rescued, run.pseudoTimeSteps,
+              run.worstNewton);
+  EXPECT_GT(run.rescued, 0);
 }
 
 // The whole extreme case of the stability report: compression to 80 % over 0.2 s, then held
@@ -96,24 +120,13 @@ TEST(EquilibriumStall, CompressedMuscleWithInversionHandlingConvergesEveryFrame)
 // must converge, and the Jacobian-free steps must be what did it: with them no frame needs more
 // than half the iteration limit.
 TEST(EquilibriumStall, EightyPercentCompressionConvergesEveryFrameOnTheForceDerivative) {
-  auto s = compressedBlock();
-  QuasistaticIntegrator integrator;
-  int derivativeSteps = 0, worstNewton = 0, worstFrame = 0;
-  for (int frame = 1; frame <= 300; ++frame) {
-    const StepReport step = integrator.advance(*s, 1e-3);
-    const EquilibriumReport& r = integrator.lastReport();
-    ASSERT_TRUE(step.ok) << "frame " << frame << ": " << step.failure;
-    derivativeSteps += r.derivativeSteps;
-    if (r.newtonIterations > worstNewton) {
-      worstNewton = r.newtonIterations;
-      worstFrame = frame;
-    }
-  }
+  const CompressionRun run = compress(300, 1);
+  ASSERT_EQ(run.failedFrame, 0) << "frame " << run.failedFrame << ": " << run.failure;
   std::printf("[ measured ] 80 %% compression held to t = 0.3 s: every frame converged; %d "
               "Jacobian-free Newton steps, at most %d Newton iterations (frame %d)\n",
-              derivativeSteps, worstNewton, worstFrame);
-  EXPECT_GT(derivativeSteps, 0);
-  EXPECT_LE(worstNewton, EquilibriumParams{}.maxNewtonIterations / 2);
+              run.derivativeSteps, run.worstNewton, run.worstFrame);
+  EXPECT_GT(run.derivativeSteps, 0);
+  EXPECT_LE(run.worstNewton, EquilibriumParams{}.maxNewtonIterations / 2);
 }
 
 }  // namespace
