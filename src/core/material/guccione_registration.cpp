@@ -23,4 +23,8 @@ void registerGuccioneLaw(Registry& registry) {
       })});
 }
 
+// The element models over the law, compiled here once (model/law_model_factory.h).
+template class HyperelasticModel<GuccioneLaw>;
+template class adamss::VirtualHexahedronModel<GuccioneLaw>;
+
 }  // namespace tt

@@ -47,4 +47,10 @@ void registerHunterPolynomialLaw(Registry& registry) {
       })});
 }
 
+// The element models over the law, compiled here once (model/law_model_factory.h).
+template class HyperelasticModel<HunterLaw>;
+template class adamss::VirtualHexahedronModel<HunterLaw>;
+template class HyperelasticModel<HunterPolynomialLaw>;
+template class adamss::VirtualHexahedronModel<HunterPolynomialLaw>;
+
 }  // namespace tt

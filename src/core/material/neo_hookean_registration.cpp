@@ -19,4 +19,8 @@ void registerNeoHookeanLaw(Registry& registry) {
       })});
 }
 
+// The element models over the law, compiled here once (model/law_model_factory.h).
+template class HyperelasticModel<NeoHookeanLaw>;
+template class adamss::VirtualHexahedronModel<NeoHookeanLaw>;
+
 }  // namespace tt

@@ -17,4 +17,8 @@ void registerStvkLaw(Registry& registry) {
       })});
 }
 
+// The element models over the law, compiled here once (model/law_model_factory.h).
+template class HyperelasticModel<StvkLaw>;
+template class adamss::VirtualHexahedronModel<StvkLaw>;
+
 }  // namespace tt

@@ -31,4 +31,8 @@ void registerTeranMuscleLaw(Registry& registry) {
           })});
 }
 
+// The element models over the law, compiled here once (model/law_model_factory.h).
+template class HyperelasticModel<TeranMuscleLaw>;
+template class adamss::VirtualHexahedronModel<TeranMuscleLaw>;
+
 }  // namespace tt

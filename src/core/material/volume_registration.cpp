@@ -17,4 +17,8 @@ void registerVolumeLaw(Registry& registry) {
       /*standalone=*/false});
 }
 
+// The element models over the law, compiled here once (model/law_model_factory.h).
+template class HyperelasticModel<VolumeLaw>;
+template class adamss::VirtualHexahedronModel<VolumeLaw>;
+
 }  // namespace tt

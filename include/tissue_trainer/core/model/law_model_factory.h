@@ -2,15 +2,17 @@
 // The registry's factory of the element models over one law (`hyperelastic` and
 // `virtual_hexahedron`), for the law's registration file: `readConstants` makes the law's
 // constants of material m from the context (its `materials` entry, ModelContext::entry, nullptr
-// outside a scene; or its Lame constants, ModelContext::elastic).
+// outside a scene; or its Lame constants, ModelContext::elastic). The registration file also
+// instantiates the two models over its law (`template class HyperelasticModel<Law>;`), the one
+// place they are compiled.
 #include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "tissue_trainer/core/model/adamss/virtual_hexahedron.h"
-#include "tissue_trainer/core/model/hyperelastic.h"
+#include "tissue_trainer/core/model/adamss/virtual_hexahedron_impl.h"
+#include "tissue_trainer/core/model/hyperelastic_impl.h"
 #include "tissue_trainer/core/model/law_model_request.h"
 #include "tissue_trainer/core/registry/model_context.h"
 #include "tissue_trainer/core/registry/registry.h"

@@ -41,6 +41,9 @@
 // (hasEnergy() is false, energy() 0) and its moment about the element is not zero in general:
 // moving a point force to its face's centroid moves its line of action. Where every point is
 // its face's centroid (a rectangular hex with the axes along its edges) the two are the same.
+//
+// The model's members are defined in virtual_hexahedron_impl.h and compiled once per registered
+// law, in its registration file (model/law_model_factory.h); other files link them.
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <stdexcept>
@@ -113,16 +116,7 @@ class VirtualHexahedronModel final : public ForceModel {
   // whose axes or rest shape the method cannot use.
   VirtualHexahedronModel(const Mesh& mesh, const std::vector<Constants>& constants,
                          const LawOptions& options, DeformationGradientSource source,
-                         PointForceDistribution distribution = PointForceDistribution::kAxes)
-      : options_(options), source_(source), distribution_(distribution) {
-    const AxisMesh axes = buildAxes(mesh);
-    build(mesh, mesh.tets, axes.tetRest, mesh.material, constants, "tet", tets_,
-          tetVirtualHexahedron);
-    build(mesh, mesh.hexes, axes.hexRest, mesh.hexMaterial, constants, "hex", hexes_,
-          hexVirtualHexahedron);
-    for (const auto& r : hexes_.rest) nonConservativeHexes_ += isConservative(r) ? 0 : 1;
-    for (const auto& r : tets_.rest) nonConservativeTets_ += isConservative(r) ? 0 : 1;
-  }
+                         PointForceDistribution distribution = PointForceDistribution::kAxes);
 
   const char* name() const override { return "virtual_hexahedron"; }
   DeformationGradientSource source() const { return source_; }
@@ -139,31 +133,17 @@ class VirtualHexahedronModel final : public ForceModel {
   }
   bool toleratesInversion() const override { return options_.inversionThreshold > 0.0; }
 
-  double addForce(const Eigen::VectorXd& x, const Eigen::VectorXd&,
-                  Eigen::VectorXd& f) const override {
-    const double e = forces(tets_, x, f) + forces(hexes_, x, f);
-    return hasEnergy() ? e : 0.0;
-  }
-
-  double energy(const Eigen::VectorXd& x) const override {
-    return hasEnergy() ? energyOf(tets_, x) + energyOf(hexes_, x) : 0.0;
-  }
+  double addForce(const Eigen::VectorXd& x, const Eigen::VectorXd& v,
+                  Eigen::VectorXd& f) const override;
+  double energy(const Eigen::VectorXd& x) const override;
 
   bool hasStiffness() const override { return shapeFunctions(); }
   void addStiffness(const Eigen::VectorXd& x, double scale, const SparsePattern& pattern,
-                    SparseMatrix& K) const override {
-    addElementStiffness(
-        pattern, K, scale, static_cast<int>(tets_.nodes.size()),
-        [&](int e) { return elementStiffness(tets_, x, e); }, hexes_.nodes,
-        [&](int e) { return elementStiffness(hexes_, x, e); });
-  }
+                    SparseMatrix& K) const override;
 
   bool hasStiffnessProduct() const override { return shapeFunctions(); }
   void addStiffnessTimes(const Eigen::VectorXd& x, const Eigen::VectorXd& d, double scale,
-                         Eigen::VectorXd& out) const override {
-    product(tets_, x, d, scale, out);
-    product(hexes_, x, d, scale, out);
-  }
+                         Eigen::VectorXd& out) const override;
 
  private:
   bool shapeFunctions() const { return source_ == DeformationGradientSource::kShapeFunctions; }
@@ -172,112 +152,27 @@ class VirtualHexahedronModel final : public ForceModel {
   void build(const Mesh& mesh, const std::vector<typename Element::Nodes>& elements,
              const std::vector<AxisRest<Element>>& axes, const std::vector<int>& materials,
              const std::vector<Constants>& constants, const char* kind,
-             VirtualHexahedra<Element, Law>& set, RestOf restOf) {
-    set.nodes = elements;
-    set.rest.resize(elements.size());
-    set.law.reserve(elements.size());
-    for (std::size_t e = 0; e < elements.size(); ++e) {
-      const std::string element = std::string(kind) + " " + std::to_string(e);
-      if (!restOf(mesh, elements[e], axes[e], distribution_, set.rest[e]))
-        throw std::invalid_argument("virtual_hexahedron: " + element +
-                                    " is flat or inverted at rest, or its axes span no volume");
-      const Eigen::Matrix3d& B = set.rest[e].axes0;
-      if (!shapeFunctions() && !(B.transpose() * B).isIdentity(1e-9))
-        throw std::invalid_argument("virtual_hexahedron: " + element +
-                                    ": the axis approximation needs orthogonal axes");
-      // The axis approximation works in the axes' frame, where the law's frame is I.
-      set.law.push_back(Law::parameters(constants.at(materials.at(e)),
-                                        shapeFunctions() ? B : Eigen::Matrix3d::Identity()));
-    }
-  }
-
+             VirtualHexahedra<Element, Law>& set, RestOf restOf);
   template <int N>
-  static NodeMatrix<N> relativeNodes(const Eigen::VectorXd& x, const std::array<int, N>& nodes) {
-    NodeMatrix<N> xe = gatherNodes<N>(x, nodes);
-    return xe.colwise() - xe.col(0);  // F and the axes are unchanged; no digits lost
-  }
-
+  static NodeMatrix<N> relativeNodes(const Eigen::VectorXd& x, const std::array<int, N>& nodes);
   // The point where the law is evaluated: F(centre), or the axis approximation's F.
   template <int N>
-  LawPoint pointOf(const NodeMatrix<N>& xe, const VirtualHexahedronRest<N>& r) const {
-    if (shapeFunctions()) return lawPoint(xe * r.gradient.transpose(), options_);
-    return lawPoint(axisDeformationGradient(xe * r.axisWeights, r.length0), options_);
-  }
-
+  LawPoint pointOf(const NodeMatrix<N>& xe, const VirtualHexahedronRest<N>& r) const;
   template <class Element>
   double forces(const VirtualHexahedra<Element, Law>& set, const Eigen::VectorXd& x,
-                Eigen::VectorXd& f) const {
-    constexpr int N = Element::kNodes;
-    return accumulateElementForces<N>(set.nodes, f, [&](int e, NodeMatrix<N>& fe) {
-      const NodeMatrix<N> xe = relativeNodes<N>(x, set.nodes[e]);
-      const VirtualHexahedronRest<N>& r = set.rest[e];
-      const LawPoint point = pointOf<N>(xe, r);
-      const Eigen::Matrix3d P = Law::stress(set.law[e], point.F);
-      if (shapeFunctions()) {
-        fe.noalias() = -P * r.lever;
-      } else {
-        // Eq. 2.74 corrected: column l of zeta diag(1/|zeta^0|) S is sum_k S_kl zeta_k/|zeta_k^0|.
-        const Eigen::Matrix3d S = point.F.inverse() * P;
-        const Eigen::Matrix3d pointForce =
-            (xe * r.axisWeights) * r.length0.cwiseInverse().asDiagonal() * S *
-            r.pointArea.asDiagonal();
-        fe.noalias() = -pointForce * r.distributionWeights.transpose();
-      }
-      return r.volume * Law::energy(set.law[e], point.F);
-    });
-  }
-
+                Eigen::VectorXd& f) const;
   template <class Element>
-  double energyOf(const VirtualHexahedra<Element, Law>& set, const Eigen::VectorXd& x) const {
-    constexpr int N = Element::kNodes;
-    return sumOverTets(static_cast<int>(set.nodes.size()), [&](int e) {
-      const VirtualHexahedronRest<N>& r = set.rest[e];
-      return r.volume *
-             Law::energy(set.law[e], pointOf<N>(relativeNodes<N>(x, set.nodes[e]), r).F);
-    });
-  }
-
+  double energyOf(const VirtualHexahedra<Element, Law>& set, const Eigen::VectorXd& x) const;
   // vec(dF) = M vec(dx) for M built from the columns m_p (M(i + 3 j, 3 p + i) = m_p[j]).
   template <int N>
-  static Eigen::Matrix<double, 9, 3 * N> vectorised(const NodeMatrix<N>& m) {
-    Eigen::Matrix<double, 9, 3 * N> M = Eigen::Matrix<double, 9, 3 * N>::Zero();
-    for (int p = 0; p < N; ++p)
-      for (int j = 0; j < 3; ++j)
-        for (int i = 0; i < 3; ++i) M(i + 3 * j, 3 * p + i) = m(j, p);
-    return M;
-  }
-
+  static Eigen::Matrix<double, 9, 3 * N> vectorised(const NodeMatrix<N>& m);
   // df/dx of element e (3N x 3N, node-major): df_p = -dP[dF] h_p with dF = dx_e G^T.
   template <class Element>
   Eigen::Matrix<double, 3 * Element::kNodes, 3 * Element::kNodes> elementStiffness(
-      const VirtualHexahedra<Element, Law>& set, const Eigen::VectorXd& x, int e) const {
-    constexpr int N = Element::kNodes;
-    const VirtualHexahedronRest<N>& r = set.rest[e];
-    LawPoint point = pointOf<N>(relativeNodes<N>(x, set.nodes[e]), r);
-    const Matrix9d A = pointTangent<Law>(set.law[e], point, options_);
-    return -(vectorised<N>(r.lever).transpose() * A * vectorised<N>(r.gradient));
-  }
-
+      const VirtualHexahedra<Element, Law>& set, const Eigen::VectorXd& x, int e) const;
   template <class Element>
   void product(const VirtualHexahedra<Element, Law>& set, const Eigen::VectorXd& x,
-               const Eigen::VectorXd& d, double scale, Eigen::VectorXd& out) const {
-    constexpr int N = Element::kNodes;
-    accumulateElementForces<N>(set.nodes, out, [&](int e, NodeMatrix<N>& fe) {
-      const VirtualHexahedronRest<N>& r = set.rest[e];
-      LawPoint point = pointOf<N>(relativeNodes<N>(x, set.nodes[e]), r);
-      const Eigen::Matrix3d dF = gatherNodes<N>(d, set.nodes[e]) * r.gradient.transpose();
-      Eigen::Matrix3d dP;
-      if (options_.psdProjection) {
-        const Matrix9d A = pointTangent<Law>(set.law[e], point, options_);
-        Eigen::Map<Eigen::Matrix<double, 9, 1>>(dP.data()) =
-            A * Eigen::Map<const Eigen::Matrix<double, 9, 1>>(dF.data());
-      } else {
-        dP = Law::stressDifferential(set.law[e], point.F, dF);
-      }
-      fe.noalias() = -scale * dP * r.lever;
-      return 0.0;
-    });
-  }
+               const Eigen::VectorXd& d, double scale, Eigen::VectorXd& out) const;
 
   LawOptions options_;
   DeformationGradientSource source_;
