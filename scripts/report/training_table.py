@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Markdown tables from the CSV files scripts/bench_training writes (haptic, graph, surface)."""
+"""Markdown tables from the CSV files scripts/bench_training writes: training_graph.md from
+haptic, graph and surface; with --box, update_rate.md from box.csv (the 10 x 10 x n box)."""
 import csv
 import os
 import sys
@@ -86,5 +87,35 @@ def main(folder):
               "(serialisation, loopback TCP, deserialisation).")
 
 
+def box_main(folder):
+    """The update rate against tets (box.csv) beside Jeffrey's Figs 2-3."""
+    box = rows(os.path.join(folder, "box.csv"))
+    print("# Update rate against the number of tets in the running graph\n")
+    print(f"Measured by `scripts/bench_training` (part `box`) on {machine_text()}, "
+          f"{time.strftime('%Y-%m-%d')}; every node a process of its own on this machine "
+          "(the renderer included), real master, TCPROS over loopback.\n")
+    body = []
+    for b in box:
+        wall, simulated = float(b["step_wall_p50_ms"]), float(b["step_time_p50_ms"])
+        per_frame = 10.0 * wall / simulated if simulated > 0 else float("nan")
+        body.append([b["label"].replace("_tets", ""), b["step_rate_hz"], b["step_wall_p50_ms"],
+                     b["step_time_p50_ms"], f"{per_frame:.2f}", f"{1000.0 / per_frame:.0f}",
+                     b["real_time_factor_p50"], f"{b['steps_behind']} / {b['steps']}",
+                     b.get("unstable_steps", ""), b.get("peak_displacement_mm", ""),
+                     b["bridge_period_p99_us"]])
+    print(table(["tets", "steps/s", "step wall p50 (ms)", "simulated per step p50 (ms)",
+                 "wall per 10 ms simulated (ms)", "update rate it allows (Hz)",
+                 "real-time factor", "behind / steps", "failed steps",
+                 "peak displacement (mm)", "bridge period p99 (us)"], body))
+    print("\nA step is one frame of the simulation node: contact detection, the integrator's "
+          "advance (Newtonian substeps of 0.1 ms) and the surface message; a step that overran "
+          "makes the next cover the wall time that passed, up to the scene's longest frame "
+          "(100 ms), so behind the clock the simulated time per step grows and the steps per "
+          "second fall faster than the work per simulated second rises. The update rate it "
+          "allows is 10 ms divided by the wall time per 10 ms simulated.")
+
+
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else ".")
+    args = [a for a in sys.argv[1:] if a != "--box"]
+    folder = args[0] if args else "."
+    box_main(folder) if "--box" in sys.argv[1:] else main(folder)
