@@ -77,4 +77,59 @@ Eigen::Matrix3d TransmuralFibres::frameAt(const Eigen::Vector3d& p) const {
   return frame;
 }
 
+namespace {
+
+double shortRadius(const EllipsoidShape& s, double t) {
+  return s.endoShort + t * (s.epiShort - s.endoShort);
+}
+
+double longRadius(const EllipsoidShape& s, double t) {
+  return s.endoLong + t * (s.epiLong - s.endoLong);
+}
+
+// (x^2 + y^2) / r_s(t)^2 + z^2 / r_l(t)^2 - 1: decreasing in t, since both radii grow with t.
+double spheroidLevel(const EllipsoidShape& s, const Eigen::Vector3d& p, double t) {
+  const double rs = shortRadius(s, t), rl = longRadius(s, t);
+  return (p.x() * p.x() + p.y() * p.y()) / (rs * rs) + p.z() * p.z() / (rl * rl) - 1.0;
+}
+
+}  // namespace
+
+double EllipsoidFibres::transmuralAt(const Eigen::Vector3d& p) const {
+  if (spheroidLevel(shape, p, 0.0) <= 0.0) return 0.0;
+  if (spheroidLevel(shape, p, 1.0) >= 0.0) return 1.0;
+  double inside = 0.0, outside = 1.0;  // the level is > 0 at `inside`, < 0 at `outside`
+  for (int k = 0; k < 60; ++k) {
+    const double mid = 0.5 * (inside + outside);
+    (spheroidLevel(shape, p, mid) > 0.0 ? inside : outside) = mid;
+  }
+  return 0.5 * (inside + outside);
+}
+
+Eigen::Vector3d EllipsoidFibres::normalAt(const Eigen::Vector3d& p, double t) const {
+  const double rs = shortRadius(shape, t), rl = longRadius(shape, t);
+  return Eigen::Vector3d(p.x() / (rs * rs), p.y() / (rs * rs), p.z() / (rl * rl)).normalized();
+}
+
+Eigen::Vector3d EllipsoidFibres::circumferentialAt(const Eigen::Vector3d& p,
+                                                   const Eigen::Vector3d& normal) const {
+  const Eigen::Vector3d around(-p.y(), p.x(), 0.0);
+  if (around.norm() > 1e-9 * shape.epiLong) return around.normalized();
+  const Eigen::Vector3d helper =
+      std::abs(normal.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  return (helper - helper.dot(normal) * normal).normalized();
+}
+
+Eigen::Matrix3d EllipsoidFibres::frameAt(const Eigen::Vector3d& p) const {
+  const double t = transmuralAt(p);
+  const Eigen::Vector3d n = normalAt(p, t);
+  const Eigen::Vector3d c = circumferentialAt(p, n);
+  const Eigen::Vector3d l = n.cross(c);
+  const double a = angleEndo + t * (angleEpi - angleEndo);
+  const Eigen::Vector3d fibre = std::cos(a) * c + std::sin(a) * l;
+  Eigen::Matrix3d frame;
+  frame << fibre, n, fibre.cross(n);
+  return frame;
+}
+
 }  // namespace tt

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <optional>
 
 #include "tissue_trainer/core/integrate/stability_guard.h"
 #include "tissue_trainer/core/material/elastic_constants_reader.h"
@@ -43,8 +44,65 @@ TetSplit parseSplit(const YamlEntry& e) {
   return TetSplit::kSixMirrored;
 }
 
-Mesh generateMesh(const YamlEntry& spec) {
-  const std::string type = spec["generator"].choice({"box", "cantilever", "spindle"});
+// The truncated ellipsoid of Land et al., "Verification of cardiac mechanics software" (2015),
+// Sec. 2c(ii). The radii are in the mesh's length_unit; their defaults are the paper's
+// geometry (mm) in that unit.
+EllipsoidShape readEllipsoid(const YamlEntry& spec) {
+  spec.expectMap({"generator", "cells_transmural", "cells_meridional", "cells_circumferential",
+                  "endocardium", "epicardium", "base_z", "split", "length_unit", "scale",
+                  "translate", "rotate_deg"});
+  const double mm = 1e-3 / (spec.has("length_unit") ? lengthUnit(spec["length_unit"]) : 1.0);
+  EllipsoidShape shape;
+  shape.endoShort = 7 * mm, shape.endoLong = 17 * mm;
+  shape.epiShort = 10 * mm, shape.epiLong = 20 * mm;
+  shape.baseZ = 5 * mm;
+  shape.transmural = spec.integerAtLeast("cells_transmural", 1, shape.transmural);
+  shape.meridional = spec.integerAtLeast("cells_meridional", 2, shape.meridional);
+  shape.circumferential = spec.integerAtLeast("cells_circumferential", 3, shape.circumferential);
+  const auto radii = [&](const char* key, double& shortRadius, double& longRadius) {
+    if (!spec.has(key)) return;
+    const YamlEntry e = spec[key];
+    if (e.size() != 2) e.fail("expected 2 radii [short, long] (the spheroid's r_s, r_l)");
+    shortRadius = e[0].positive();
+    longRadius = e[1].positive();
+  };
+  radii("endocardium", shape.endoShort, shape.endoLong);
+  radii("epicardium", shape.epiShort, shape.epiLong);
+  char text[200];
+  if (!(shape.epiShort > shape.endoShort && shape.epiLong > shape.endoLong)) {
+    std::snprintf(text, sizeof text,
+                  "expected epicardial radii larger than the endocardial ones: [%g, %g] is not "
+                  "outside [%g, %g]", shape.epiShort, shape.epiLong, shape.endoShort,
+                  shape.endoLong);
+    spec[spec.has("epicardium") ? "epicardium" : "endocardium"].fail(text);
+  }
+  if (spec.has("base_z")) {
+    const YamlEntry e = spec["base_z"];
+    shape.baseZ = e.number();
+    if (!(shape.baseZ >= 0.0 && shape.baseZ < shape.endoLong)) {
+      std::snprintf(text, sizeof text,
+                    "expected 0 <= base_z < the endocardial long radius (%g), got %g",
+                    shape.endoLong, shape.baseZ);
+      e.fail(text);
+    }
+  } else if (!(shape.baseZ < shape.endoLong)) {
+    std::snprintf(text, sizeof text,
+                  "expected a long radius above the cut of the base (base_z %g), got %g",
+                  shape.baseZ, shape.endoLong);
+    spec["endocardium"].fail(text);
+  }
+  return shape;
+}
+
+// `ellipsoid` gets the shape of a truncated_ellipsoid generator.
+Mesh generateMesh(const YamlEntry& spec, std::optional<EllipsoidShape>& ellipsoid) {
+  const std::string type =
+      spec["generator"].choice({"box", "cantilever", "spindle", "truncated_ellipsoid"});
+  if (type == "truncated_ellipsoid") {
+    ellipsoid = readEllipsoid(spec);
+    const bool hexes = spec.has("split") && spec["split"].choice({"none", "six"}) == "none";
+    return truncatedEllipsoid(*ellipsoid, hexes ? TetSplit::kNone : TetSplit::kSix);
+  }
   if (type == "box") {
     spec.expectMap({"generator", "nodes", "size", "split", "length_unit", "scale", "translate", "rotate_deg"});
     const YamlEntry nodes = spec["nodes"];
@@ -147,7 +205,7 @@ NodeOrdering readNodeOrdering(const YamlEntry& spec) {
 }
 
 Mesh loadMesh(const YamlEntry& spec, const fs::path& sceneDir, std::vector<std::string>& notes,
-              Placement& placement) {
+              Placement& placement, std::optional<EllipsoidShape>& ellipsoid) {
   Mesh mesh;
   if (spec.has("file")) {
     spec.expectMap({"file", "length_unit", "scale", "translate", "rotate_deg", "drop_degenerate",
@@ -160,7 +218,7 @@ Mesh loadMesh(const YamlEntry& spec, const fs::path& sceneDir, std::vector<std::
     mesh = readMesh(file.string(), &readNotes);
     for (auto& line : readNotes.lines) notes.push_back(file.filename().string() + ": " + line);
   } else if (spec.has("generator")) {
-    mesh = generateMesh(spec);
+    mesh = generateMesh(spec, ellipsoid);
   } else {
     spec.fail("expected 'file' or 'generator'");
   }
@@ -551,10 +609,14 @@ Scene loadScene(const std::string& path) {
 
   const fs::path sceneDir = fs::path(path).parent_path();
   Placement placement;
-  Mesh mesh = loadMesh(top["mesh"], sceneDir, scene.notes, placement);
-  if (top.has("fibres")) applySceneFibres(top["fibres"], sceneDir, placement.rotation, mesh);
+  FibreGeometry geometry;
+  Mesh mesh = loadMesh(top["mesh"], sceneDir, scene.notes, placement, geometry.ellipsoid);
+  geometry.scale = placement.scale;
+  geometry.rotation = placement.rotation;
+  geometry.translation = placement.translation;
+  if (top.has("fibres")) applySceneFibres(top["fibres"], sceneDir, geometry, mesh);
   std::vector<Material> materials = assignMaterials(top["materials"], mesh);
-  applyMaterialFibres(top["materials"], mesh);
+  applyMaterialFibres(top["materials"], geometry, mesh);
   scene.system = System(std::move(mesh), std::move(materials));
   System& system = scene.system;
 

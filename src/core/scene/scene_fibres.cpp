@@ -111,19 +111,50 @@ TransmuralFibres readTransmural(const YamlEntry& spec, const Mesh& mesh,
   return t;
 }
 
-// One `fibres` entry applied to `elements`; a fibre file only at the top level (sceneDir set).
+// ellipsoid: {angles_deg: [endocardium, epicardium]}, on the mesh of a truncated_ellipsoid
+// generator (its shape in `geometry`).
+EllipsoidFibres readEllipsoidFibres(const YamlEntry& spec, const FibreGeometry& geometry) {
+  spec.expectMap({"angles_deg"});
+  if (!geometry.ellipsoid)
+    spec.fail("expected a mesh of generator truncated_ellipsoid: the form takes the wall from "
+              "its shape");
+  EllipsoidFibres fibres;
+  fibres.shape = *geometry.ellipsoid;
+  const YamlEntry angles = spec["angles_deg"];
+  if (angles.size() != 2)
+    angles.fail("expected a list of 2 angles [at the endocardium, at the epicardium] in degrees");
+  fibres.angleEndo = angles[0].number() * M_PI / 180.0;
+  fibres.angleEpi = angles[1].number() * M_PI / 180.0;
+  return fibres;
+}
+
+// One `fibres` entry applied to `elements`; a fibre file only at the top level (sceneDir set),
+// the ellipsoid form only at the top level and in materials (geometry set).
 void applyEntry(const YamlEntry& spec, const std::vector<int>& elements, Mesh& mesh,
-                const fs::path* sceneDir, const Eigen::Matrix3d& meshRotation) {
-  if (sceneDir)
-    spec.expectMap({"direction", "sheet", "angles_deg", "file", "transmural"});
-  else
-    spec.expectMap({"direction", "sheet", "angles_deg", "transmural"});
+                const fs::path* sceneDir, const FibreGeometry* geometry) {
+  std::vector<std::string> keys{"direction", "sheet", "angles_deg", "transmural"};
+  if (sceneDir) keys.push_back("file");
+  if (geometry) keys.push_back("ellipsoid");
+  spec.expectMap(keys);
   const bool global = spec.has("direction") || spec.has("sheet") || spec.has("angles_deg");
-  const char* special = spec.has("file") ? "file" : spec.has("transmural") ? "transmural" : nullptr;
-  if (special && (global || (spec.has("file") && spec.has("transmural"))))
-    spec[special].fail("expected one form of fibres: direction (and sheet), angles_deg, " +
-                       std::string(sceneDir ? "file or transmural" : "or transmural") +
-                       ", not several");
+  std::vector<const char*> special;
+  for (const char* form : {"file", "transmural", "ellipsoid"})
+    if (spec.has(form)) special.push_back(form);
+  if (!special.empty() && (global || special.size() > 1))
+    spec[special.back()].fail(
+        std::string("expected one form of fibres: direction (and sheet), angles_deg, ") +
+        (sceneDir ? "file, " : "") + (geometry ? "transmural or ellipsoid" : "or transmural") +
+        ", not several");
+  if (spec.has("ellipsoid")) {
+    const EllipsoidFibres fibres = readEllipsoidFibres(spec["ellipsoid"], *geometry);
+    for (int e : elements) {
+      const Eigen::Vector3d own =
+          geometry->rotation.transpose() * (centroid(mesh, e) - geometry->translation) /
+          geometry->scale;
+      frameOf(mesh, e) = geometry->rotation * fibres.frameAt(own);
+    }
+    return;
+  }
   if (spec.has("transmural")) {
     const TransmuralFibres t = readTransmural(spec["transmural"], mesh, elements);
     for (int e : elements) frameOf(mesh, e) = t.frameAt(centroid(mesh, e));
@@ -135,7 +166,7 @@ void applyEntry(const YamlEntry& spec, const std::vector<int>& elements, Mesh& m
     if (file.is_relative()) file = *sceneDir / file;
     if (!fs::is_regular_file(file)) fileEntry.fail("fibre file '" + file.string() + "' not found");
     const std::vector<Eigen::Matrix3d> frames = readFibreFile(file.string(), numElements(mesh));
-    for (int e : elements) frameOf(mesh, e) = meshRotation * frames[elementToFile(mesh, e)];
+    for (int e : elements) frameOf(mesh, e) = geometry->rotation * frames[elementToFile(mesh, e)];
     return;
   }
   const Eigen::Matrix3d frame = globalFrame(spec);
@@ -145,19 +176,20 @@ void applyEntry(const YamlEntry& spec, const std::vector<int>& elements, Mesh& m
 }  // namespace
 
 void applySceneFibres(const YamlEntry& spec, const fs::path& sceneDir,
-                      const Eigen::Matrix3d& meshRotation, Mesh& mesh) {
+                      const FibreGeometry& geometry, Mesh& mesh) {
   mesh.fillDefaults();
   std::vector<int> all(numElements(mesh));
   for (int e = 0; e < numElements(mesh); ++e) all[e] = e;
-  applyEntry(spec, all, mesh, &sceneDir, meshRotation);
+  applyEntry(spec, all, mesh, &sceneDir, &geometry);
 }
 
 void applyFibres(const YamlEntry& spec, const std::vector<int>& elements, Mesh& mesh) {
   mesh.fillDefaults();
-  applyEntry(spec, elements, mesh, nullptr, Eigen::Matrix3d::Identity());
+  applyEntry(spec, elements, mesh, nullptr, nullptr);
 }
 
-void applyMaterialFibres(const YamlEntry& materialList, Mesh& mesh) {
+void applyMaterialFibres(const YamlEntry& materialList, const FibreGeometry& geometry,
+                         Mesh& mesh) {
   mesh.fillDefaults();
   for (size_t k = 0; k < materialList.size(); ++k) {
     if (!materialList[k].has("fibres")) continue;
@@ -169,7 +201,7 @@ void applyMaterialFibres(const YamlEntry& materialList, Mesh& mesh) {
     if (elements.empty())
       materialList[k]["fibres"].fail(
           "no element has this material (later entries override earlier ones in their region)");
-    applyEntry(materialList[k]["fibres"], elements, mesh, nullptr, Eigen::Matrix3d::Identity());
+    applyEntry(materialList[k]["fibres"], elements, mesh, nullptr, &geometry);
   }
 }
 

@@ -13,7 +13,7 @@ namespace tt {
 namespace {
 
 // Line numbers below refer to this text.
-const char* const kScene = R"(name: collision
+const char* const kCollisionScene = R"(name: collision
 mesh: {generator: box, nodes: [3, 3, 3], size: [0.01, 0.01, 0.01]}
 materials:
   - {young_modulus: 10, poisson_ratio: 0.3, stress_unit: kPa}
@@ -32,14 +32,14 @@ using testutil::BadScene;
 using testutil::replaced;
 
 TEST(MalformedCollision, GoodSceneLoads) {
-  EXPECT_NO_THROW(loadScene(testutil::writeScene("collision_good.yaml", kScene)));
+  EXPECT_NO_THROW(loadScene(testutil::writeScene("collision_good.yaml", kCollisionScene)));
 }
 
 TEST(MalformedCollision, EachErrorNamesFileLineAndKey) {
   const std::string dir =
-      std::filesystem::path(testutil::writeScene("collision_good.yaml", kScene)).parent_path();
+      std::filesystem::path(testutil::writeScene("collision_good.yaml", kCollisionScene)).parent_path();
   std::ofstream(dir + "/open_box.obj") << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 3 2\nf 1 4 3\n";
-  const std::string s = kScene;
+  const std::string s = kCollisionScene;
   const std::vector<BadScene> cases = {
       {"unknown key", replaced(s, "    nodes: surface", "    node: surface"), 9,
        "force_models[1].node: unknown key 'node'"},

@@ -15,7 +15,7 @@ namespace tt {
 namespace {
 
 // A 3 x 3 x 5-node block of tets under gravity (the strain tests' kind of scene).
-const char* const kBlock = R"(name: metered
+const char* const kMeteredBlock = R"(name: metered
 mesh: {generator: box, nodes: [3, 3, 5], size: [0.02, 0.02, 0.04], split: six}
 materials: [{young_modulus: 3000, poisson_ratio: 0.4, density: 1000}]
 force_models: [{type: edge_length}]
@@ -24,7 +24,7 @@ loads: {gravity: [0, 0, -9.81]}
 run: {frame_time: 0.01, duration: 0.1}
 )";
 
-Scene block() { return loadScene(testutil::writeScene("metered.yaml", kBlock)); }
+Scene block() { return loadScene(testutil::writeScene("metered.yaml", kMeteredBlock)); }
 
 TEST(FrameMeter, GivesWhatMeasureFrameAndMeasureStrainGive) {
   Scene scene = block();
@@ -89,7 +89,7 @@ TEST(FrameMeter, RigidTranslationMovesOnlyTheDisplacementAndTheBarycentre) {
 TEST(FrameMeter, RefusesASystemOfAnotherSize) {
   Scene one = block();
   const Scene other = loadScene(testutil::writeScene(
-      "metered_other.yaml", testutil::replaced(kBlock, "nodes: [3, 3, 5]", "nodes: [3, 3, 4]")));
+      "metered_other.yaml", testutil::replaced(kMeteredBlock, "nodes: [3, 3, 5]", "nodes: [3, 3, 4]")));
   const FrameMeter meter(one.system);
   EXPECT_THROW(meter.measure(other.system, 0, {}, 0.05), std::invalid_argument);
 }

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "tissue_trainer/core/mesh/generators.h"
+
 namespace tt {
 
 // The global frame turned by the spherical angles phi, theta (degrees) of Sec. 2.8.1: fibre
@@ -46,6 +48,27 @@ struct TransmuralFibres {
 
   // The fibre angle at point p (rad).
   double angleAt(const Eigen::Vector3d& p) const;
+  Eigen::Matrix3d frameAt(const Eigen::Vector3d& p) const;
+};
+
+// The fibres of the truncated prolate-spheroidal ventricle of truncatedEllipsoid, in its own
+// coordinates (long axis z, apex towards -z). The transmural coordinate t of a point is that of
+// the generator's spheroid through it,
+//   (x^2 + y^2) / r_s(t)^2 + z^2 / r_l(t)^2 = 1,   r_s, r_l linear in t as in EllipsoidShape,
+// 0 on the endocardium, 1 on the epicardium (held there inside and outside the wall). With
+//   n  the outward unit normal of that spheroid (its function's gradient),
+//   c  = (-y, x, 0) / |(x, y)|, circumferential (on the long axis: a unit vector orthogonal to n),
+//   l  = n x c, longitudinal (towards the base on the lateral wall),
+//   a  = angleEndo + t (angleEpi - angleEndo),
+// the frame is fibre f = cos(a) c + sin(a) l, sheet n, sheet-normal f x n.
+struct EllipsoidFibres {
+  EllipsoidShape shape;
+  double angleEndo = 0.0, angleEpi = 0.0;  // rad
+
+  double transmuralAt(const Eigen::Vector3d& p) const;
+  // The outward unit normal of the spheroid of transmural coordinate t at p.
+  Eigen::Vector3d normalAt(const Eigen::Vector3d& p, double t) const;
+  Eigen::Vector3d circumferentialAt(const Eigen::Vector3d& p, const Eigen::Vector3d& normal) const;
   Eigen::Matrix3d frameAt(const Eigen::Vector3d& p) const;
 };
 
