@@ -271,7 +271,7 @@ TEST(ShippedTasks, MuscleGraspClosesTheJawOnTheBellySurface) {
   EXPECT_GT(task.keyframes().back().tip.z() - jawLength, belly + radius + 0.05);
 }
 
-// The beating wall (config/scenes/beating_heart.yaml): the closed jaws, 18 mm beyond the tip
+// The beating ventricle (config/scenes/beating_heart.yaml): the closed jaws, 18 mm beyond the tip
 // along the shaft, stop 5 mm above the rest epicardium and press 1.5 mm into it.
 TEST(ShippedTasks, BeatingHeartPalpationPressesTheJawTipsOneAndAHalfMillimetresIn) {
   const TaskScript task = TaskScript::load(kTasks + "beating_heart_palpation.yaml");
