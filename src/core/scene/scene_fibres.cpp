@@ -132,8 +132,9 @@ EllipsoidFibres readEllipsoidFibres(const YamlEntry& spec, const FibreGeometry& 
 // the ellipsoid form only at the top level and in materials (geometry set).
 void applyEntry(const YamlEntry& spec, const std::vector<int>& elements, Mesh& mesh,
                 const fs::path* sceneDir, const FibreGeometry* geometry) {
-  std::vector<std::string> keys{"direction", "sheet", "angles_deg", "transmural"};
+  std::vector<std::string> keys{"direction", "sheet", "angles_deg"};
   if (sceneDir) keys.push_back("file");
+  keys.push_back("transmural");
   if (geometry) keys.push_back("ellipsoid");
   spec.expectMap(keys);
   const bool global = spec.has("direction") || spec.has("sheet") || spec.has("angles_deg");

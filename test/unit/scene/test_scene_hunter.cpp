@@ -237,7 +237,7 @@ TEST(HunterScene, MalformedFibreEntriesNameFileLineAndKey) {
        "fibres.angles_deg: expected a list of 2 angles [phi, theta] in degrees"},
       {"sheet alone", with("{sheet: [0, 0, 1]}"), 3, "fibres: missing required key 'direction'"},
       {"unknown key", with("{direction: [1, 1, 0], normal: [0, 0, 1]}"), 3,
-       "fibres.normal: unknown key 'normal' (expected one of: direction, sheet, angles_deg, file, transmural)"},
+       "fibres.normal: unknown key 'normal' (expected one of: direction, sheet, angles_deg, file, transmural, ellipsoid)"},
   };
   testutil::expectEachSceneFailsClearly(cases, "bad_fibres.yaml");
 }
