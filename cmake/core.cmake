@@ -70,40 +70,14 @@ set_target_properties(tissue_trainer_core PROPERTIES POSITION_INDEPENDENT_CODE O
 # compilation from 575 to 325 s of one core (docs/building.md). Helpers in unnamed namespaces
 # must therefore have names distinct across the core's files. TT_CORE_UNITY=OFF compiles file
 # by file.
-# The law registrations, which compile the element models over their law (19-26 s each alone),
-# share most of that work (the elements' Eigen products and loops): they compile in groups of
-# three, 32-33 s a group against 61-74 s for the same three alone (g++ 12, docs/building.md),
-# and an edit of one recompiles its group only. `psd_projection.cpp` compiles alone.
+# The law registrations (20-30 s each) compile one by one, so that an edit of any core file
+# recompiles at most about 30 s: batched together they took 58 s.
 option(TT_CORE_UNITY "Compile the core in unity batches" ON)
 if(TT_CORE_UNITY)
-  set(TT_LAW_GROUPS stvk,neo_hookean,volume hunter,guccione,teran_muscle)
-  set(TT_LAW_REGISTRATIONS "")
-  set(group 0)
-  foreach(laws IN LISTS TT_LAW_GROUPS)
-    string(REPLACE "," ";" laws "${laws}")
-    foreach(law IN LISTS laws)
-      set(file "${TT_ROOT}/src/core/material/${law}_registration.cpp")
-      set_source_files_properties("${file}" PROPERTIES UNITY_GROUP "laws_${group}")
-      list(APPEND TT_LAW_REGISTRATIONS "${file}")
-    endforeach()
-    math(EXPR group "${group} + 1")
-  endforeach()
-  file(GLOB registrations "${TT_ROOT}/src/core/material/*_registration.cpp")
-  foreach(file ${registrations})
-    if(NOT file IN_LIST TT_LAW_REGISTRATIONS)
-      message(FATAL_ERROR "${file}: a law registration in no group of TT_LAW_GROUPS (cmake/core.cmake)")
-    endif()
-  endforeach()
-  # Every other file in batches of 8 in source order (CMake's BATCH mode, spelt as groups).
-  set(position 0)
-  foreach(file ${TT_CORE_SOURCES})
-    if(NOT file IN_LIST TT_LAW_REGISTRATIONS AND NOT file MATCHES "/material/psd_projection.cpp$")
-      math(EXPR batch "${position} / 8")
-      set_source_files_properties("${file}" PROPERTIES UNITY_GROUP "batch_${batch}")
-      math(EXPR position "${position} + 1")
-    endif()
-  endforeach()
-  set_target_properties(tissue_trainer_core PROPERTIES UNITY_BUILD ON UNITY_BUILD_MODE GROUP)
+  set_target_properties(tissue_trainer_core PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)
+  file(GLOB TT_LAW_REGISTRATIONS "${TT_ROOT}/src/core/material/*_registration.cpp")
+  set_source_files_properties(${TT_LAW_REGISTRATIONS} "${TT_ROOT}/src/core/material/psd_projection.cpp"
+    PROPERTIES SKIP_UNITY_BUILD_INCLUSION ON)
 endif()
 # Every core file parses Eigen and much of the standard library, about 140,000 lines before
 # its own code: a precompiled header parses them once for the whole library.
