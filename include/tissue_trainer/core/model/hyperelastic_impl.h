@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "tissue_trainer/core/element/point_stiffness.h"
 #include "tissue_trainer/core/model/hyperelastic.h"
 
 namespace tt {
@@ -122,13 +123,8 @@ HyperelasticModel<Law>::elementStiffness(const LawElements<Element, Law>& set,
   Eigen::Matrix<double, 3 * N, 3 * N> Ke = Eigen::Matrix<double, 3 * N, 3 * N>::Zero();
   for (int q = 0; q < Element::kPoints; ++q) {
     LawPoint point = lawPoint(xe * r.grad[q].transpose(), options_);
-    const Matrix9d A = pointTangent<Law>(set.law[e], point, options_);
-    // G(i + 3 j, 3 p + i) = g_pj: vec(dF) = G vec(dx).
-    Eigen::Matrix<double, 9, 3 * N> G = Eigen::Matrix<double, 9, 3 * N>::Zero();
-    for (int p = 0; p < N; ++p)
-      for (int j = 0; j < 3; ++j)
-        for (int i = 0; i < 3; ++i) G(i + 3 * j, 3 * p + i) = r.grad[q](j, p);
-    Ke.noalias() -= r.weight[q] * (G.transpose() * A * G);
+    subtractPointStiffness<N>(pointTangent<Law>(set.law[e], point, options_), r.grad[q],
+                              r.grad[q], r.weight[q], Ke);
   }
   return Ke;
 }

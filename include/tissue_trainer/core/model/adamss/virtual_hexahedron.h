@@ -163,9 +163,6 @@ class VirtualHexahedronModel final : public ForceModel {
                 Eigen::VectorXd& f) const;
   template <class Element>
   double energyOf(const VirtualHexahedra<Element, Law>& set, const Eigen::VectorXd& x) const;
-  // vec(dF) = M vec(dx) for M built from the columns m_p (M(i + 3 j, 3 p + i) = m_p[j]).
-  template <int N>
-  static Eigen::Matrix<double, 9, 3 * N> vectorised(const NodeMatrix<N>& m);
   // df/dx of element e (3N x 3N, node-major): df_p = -dP[dF] h_p with dF = dx_e G^T.
   template <class Element>
   Eigen::Matrix<double, 3 * Element::kNodes, 3 * Element::kNodes> elementStiffness(

@@ -5,6 +5,7 @@
 // virtual_hexahedron.h and links that compiled model.
 #include <string>
 
+#include "tissue_trainer/core/element/point_stiffness.h"
 #include "tissue_trainer/core/model/adamss/virtual_hexahedron.h"
 
 namespace tt {
@@ -136,16 +137,6 @@ double VirtualHexahedronModel<Law>::energyOf(const VirtualHexahedra<Element, Law
 }
 
 template <class Law>
-template <int N>
-Eigen::Matrix<double, 9, 3 * N> VirtualHexahedronModel<Law>::vectorised(const NodeMatrix<N>& m) {
-  Eigen::Matrix<double, 9, 3 * N> M = Eigen::Matrix<double, 9, 3 * N>::Zero();
-  for (int p = 0; p < N; ++p)
-    for (int j = 0; j < 3; ++j)
-      for (int i = 0; i < 3; ++i) M(i + 3 * j, 3 * p + i) = m(j, p);
-  return M;
-}
-
-template <class Law>
 template <class Element>
 Eigen::Matrix<double, 3 * Element::kNodes, 3 * Element::kNodes>
 VirtualHexahedronModel<Law>::elementStiffness(const VirtualHexahedra<Element, Law>& set,
@@ -153,8 +144,10 @@ VirtualHexahedronModel<Law>::elementStiffness(const VirtualHexahedra<Element, La
   constexpr int N = Element::kNodes;
   const VirtualHexahedronRest<N>& r = set.rest[e];
   LawPoint point = pointOf<N>(relativeNodes<N>(x, set.nodes[e]), r);
-  const Matrix9d A = pointTangent<Law>(set.law[e], point, options_);
-  return -(vectorised<N>(r.lever).transpose() * A * vectorised<N>(r.gradient));
+  Eigen::Matrix<double, 3 * N, 3 * N> Ke = Eigen::Matrix<double, 3 * N, 3 * N>::Zero();
+  subtractPointStiffness<N>(pointTangent<Law>(set.law[e], point, options_), r.lever, r.gradient,
+                            1.0, Ke);
+  return Ke;
 }
 
 template <class Law>
