@@ -1,6 +1,5 @@
 #include "tissue_trainer/core/integrate/radau_iia.h"
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <Eigen/UmfPackSupport>
 #include <algorithm>
@@ -28,6 +27,50 @@ struct NewtonOutcome {
   int iterations = 0;
 };
 
+// The eigenvalues of a real 3 x 3 matrix with one real eigenvalue gamma and a complex pair
+// alpha +- i beta (A^-1 of the 3-stage Radau IIA tableau), from its characteristic polynomial
+// p(z) = z^3 - t z^2 + m z - d: gamma by Newton's method from above (p is convex right of
+// (gamma + 2 alpha) / 3 < gamma, so the iterates fall monotonically to gamma), the pair from
+// p(z) / (z - gamma) = z^2 - (t - gamma) z + d / gamma. Eigen's EigenSolver would do the same
+// job and take 12 s of g++'s time to compile.
+struct RadauEigenvalues {
+  double gamma, alpha, beta;
+};
+
+RadauEigenvalues radauEigenvalues(const Eigen::Matrix3d& M) {
+  const double t = M.trace();
+  const double m = M(0, 0) * M(1, 1) - M(0, 1) * M(1, 0) + M(0, 0) * M(2, 2) -
+                   M(0, 2) * M(2, 0) + M(1, 1) * M(2, 2) - M(1, 2) * M(2, 1);
+  const double d = M.determinant();
+  double z = M.cwiseAbs().rowwise().sum().maxCoeff();  // >= the spectral radius >= gamma
+  for (int i = 0; i < 100; ++i) {
+    const double step = (((z - t) * z + m) * z - d) / ((3.0 * z - 2.0 * t) * z + m);
+    z -= step;
+    if (std::abs(step) <= 1e-15 * z) break;
+  }
+  RadauEigenvalues e;
+  e.gamma = z;
+  e.alpha = 0.5 * (t - z);
+  e.beta = std::sqrt(d / z - e.alpha * e.alpha);
+  return e;
+}
+
+// A vector spanning the null space of a singular 3 x 3 matrix S (real or complex) of rank 2:
+// the (unconjugated) cross product of two of its rows, the pair giving the longest one.
+template <class Scalar>
+Eigen::Matrix<std::complex<double>, 3, 1> nullVector(const Eigen::Matrix<Scalar, 3, 3>& S) {
+  Eigen::Matrix<Scalar, 3, 1> best = Eigen::Matrix<Scalar, 3, 1>::Zero();
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Matrix<Scalar, 3, 1> r1 = S.row(i).transpose();
+    const Eigen::Matrix<Scalar, 3, 1> r2 = S.row((i + 1) % 3).transpose();
+    const Eigen::Matrix<Scalar, 3, 1> v(r1[1] * r2[2] - r1[2] * r2[1],
+                                        r1[2] * r2[0] - r1[0] * r2[2],
+                                        r1[0] * r2[1] - r1[1] * r2[0]);
+    if (v.norm() > best.norm()) best = v;
+  }
+  return best.template cast<std::complex<double>>() / best.norm();
+}
+
 RadauTableau buildTableau() {
   RadauTableau r;
   const double s6 = std::sqrt(6.0);
@@ -43,20 +86,18 @@ RadauTableau buildTableau() {
   r.b = r.A.row(2).transpose();  // stiffly accurate: c_3 = 1
   r.Ainv = r.A.inverse();
 
-  Eigen::EigenSolver<Eigen::Matrix3d> eig(r.Ainv);
-  int real = 0, lower = 0;
-  for (int i = 0; i < 3; ++i) {
-    if (std::abs(eig.eigenvalues()[i].imag()) < 1e-12) real = i;
-    else if (eig.eigenvalues()[i].imag() < 0.0) lower = i;
-  }
   // Eigenvalue alpha - i beta with eigenvector a + i b: A^-1 a = alpha a + beta b and
   // A^-1 b = -beta a + alpha b, so T = [u, a, b] gives the block form of D.17.
-  r.gamma = eig.eigenvalues()[real].real();
-  r.alpha = eig.eigenvalues()[lower].real();
-  r.beta = -eig.eigenvalues()[lower].imag();
-  r.T.col(0) = eig.eigenvectors().col(real).real();
-  r.T.col(1) = eig.eigenvectors().col(lower).real();
-  r.T.col(2) = eig.eigenvectors().col(lower).imag();
+  const RadauEigenvalues eig = radauEigenvalues(r.Ainv);
+  r.gamma = eig.gamma;
+  r.alpha = eig.alpha;
+  r.beta = eig.beta;
+  r.T.col(0) = nullVector<double>(r.Ainv - r.gamma * Eigen::Matrix3d::Identity()).real();
+  const Eigen::Vector3cd ab = nullVector<std::complex<double>>(
+      r.Ainv.cast<std::complex<double>>() -
+      std::complex<double>(r.alpha, -r.beta) * Eigen::Matrix3cd::Identity());
+  r.T.col(1) = ab.real();
+  r.T.col(2) = ab.imag();
   r.Tinv = r.T.inverse();
 
   // Embedded method y_hat = y0 + h (gamma0 F(y0) + sum b_hat_i F_i) of order 3 with
