@@ -148,6 +148,49 @@ def best_pair(front, key):
     return max(counts.items(), key=lambda kv: (len(kv[1]), -min(kv[1])))[0] if counts else None
 
 
+# What each integrator of the work-precision runs is (docs/solvers.md describes them).
+INTEGRATOR_TEXT = {
+    "newtonian": "Jeffrey's Eq 11", "symplectic_euler": "semi-implicit",
+    "explicit_euler": "forward; \"Adamss\", Sec. 2.5.2",
+    "backward_euler": "linearised, one Newton step",
+    "backward_euler_newton": "up to 8 Newton iterations",
+    "backward_euler_adaptive": "the step halved or doubled by the Krylov iterations it needs, "
+                               "\"Adamss\" Sec. 2.5.5",
+    "abm3": "Adams-Bashforth-Moulton predictor-corrector, adaptive",
+    "rk4_adaptive": "classical Runge-Kutta with step doubling, Jeffrey's Appendix A",
+    "radau_iia": "3-stage, analytical Jacobian, adaptive",
+    "quasistatic": "equilibrium per frame, Jacobi-preconditioned CG",
+    "quasistatic_cholesky": "equilibrium per frame, Cholesky-preconditioned CG",
+    "static_newton": "the static reference",
+}
+PARAMETER_TEXT = {"h": "step h", "rtol": "relative tolerance",
+                  "upper_iterations": "upper_iterations"}
+
+
+def models_and_integrators_text(runs):
+    """The force models and integrators of these runs, each integrator with the parameter its
+    runs vary and that parameter's range: the report says what it holds, not what it once did."""
+    models = sorted({r["model"] for r in runs})
+    ranges = defaultdict(list)
+    for r in runs:
+        if finite(r["parameter"]):
+            ranges[(r["integrator"], r["parameter_name"])].append(r["parameter"])
+    integrators = []
+    for name in sorted({r["integrator"] for r in runs}):
+        kinds = sorted(k for k in ranges if k[0] == name)
+        spans = ", ".join(f"{PARAMETER_TEXT.get(k[1], k[1])} {min(ranges[k]):.3g} .. "
+                          f"{max(ranges[k]):.3g}" for k in kinds)
+        what = "; ".join(t for t in (INTEGRATOR_TEXT.get(name, ""), spans) if t)
+        integrators.append(f"`{name}`" + (f" ({what})" if what else ""))
+    return (f"Force models, {len(models)} (the registry's presets, docs/registry.md): "
+            + ", ".join(f"`{m}`" for m in models) + ". "
+            f"Integrators, {len(integrators)}, with the parameter their runs vary: "
+            + "; ".join(integrators) + ". Steps h in seconds; the explicit methods run at "
+            "1.5, 0.9, 0.5, 0.25 and 0.125 times the stability limit 2 / omega_max of the model "
+            "at rest (rounded down to whole steps per sample interval), so their h differ "
+            "between models.")
+
+
 def load_csv_runs(path):
     rows = read_csv(path)
     check_columns(rows, path)
@@ -637,18 +680,7 @@ def main():
              ", then parameter_name, discrete_error, tets, note), `work_precision_facts.csv` "
              "(analytic values, references and their accuracy), `scaling.csv`, "
              "`scaling_fits.csv`.", "",
-             "Force models (equations of Jeffrey, \"A non-linear anisotropic Finite Element "
-             "Method for surgical simulation\"): every one the factory offers (`edge_length` fast, "
-             "`edge_length_literal` Eq 31, `stvk_displacement` Eq 13, "
-             "`stvk_displacement_paper_literal` with the printed Eq 5 sign, `tensor_mass` "
-             "linear). Integrators: `newtonian` (Jeffrey's Eq 11), `symplectic_euler`, "
-             "`explicit_euler` (\"Adamss: Advanced Anisotropic Mass-Spring System\", Sec. 2.5.2, "
-             "forward), at 1.5, 0.9, 0.5, 0.25 and 0.125 of the "
-             "stability limit 2 / omega_max at rest; `backward_euler` (linearised, one Newton "
-             "step) and `backward_euler_newton` (up to 8 Newton iterations) over a step sweep; "
-             "`radau_iia` (analytical Jacobian) at relative tolerances 1e-2 .. 1e-7; on the "
-             "static problems (1 and 6) also the quasistatic solver, `quasistatic` (Jacobi) and "
-             "`quasistatic_cholesky`, at relative tolerances 1e-2 .. 1e-10. "
+             models_and_integrators_text(runs),
              "Pareto front: the runs no other run beats in both CPU time and error. Best pair: "
              "the model + integrator with the most runs on the front.", ""]
 
