@@ -178,17 +178,22 @@ def models_and_integrators_text(runs):
     integrators = []
     for name in sorted({r["integrator"] for r in runs}):
         kinds = sorted(k for k in ranges if k[0] == name)
-        spans = ", ".join(f"{PARAMETER_TEXT.get(k[1], k[1])} {min(ranges[k]):.3g} .. "
-                          f"{max(ranges[k]):.3g}" for k in kinds)
+        spans = ", ".join(f"{PARAMETER_TEXT.get(k[1], k[1])} {value_range(ranges[k])}"
+                          for k in kinds)
         what = "; ".join(t for t in (INTEGRATOR_TEXT.get(name, ""), spans) if t)
         integrators.append(f"`{name}`" + (f" ({what})" if what else ""))
     return (f"Force models, {len(models)} (the registry's presets, docs/registry.md): "
             + ", ".join(f"`{m}`" for m in models) + ". "
             f"Integrators, {len(integrators)}, with the parameter their runs vary: "
-            + "; ".join(integrators) + ". Steps h in seconds; the explicit methods run at "
-            "1.5, 0.9, 0.5, 0.25 and 0.125 times the stability limit 2 / omega_max of the model "
-            "at rest (rounded down to whole steps per sample interval), so their h differ "
-            "between models.")
+            + "; ".join(integrators) + ". Steps h in seconds; the explicit methods' steps are "
+            "fractions of the stability limit 2 / omega_max of the model at rest (1.5, 0.9, "
+            "0.5, 0.25 and 0.125 in a full run, 0.5 with --quick; rounded down to whole steps "
+            "per sample interval), so their h differ between models.")
+
+
+def value_range(values):
+    low, high = min(values), max(values)
+    return f"{low:.3g}" if low == high else f"{low:.3g} .. {high:.3g}"
 
 
 def load_csv_runs(path):
