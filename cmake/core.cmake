@@ -70,7 +70,7 @@ set_target_properties(tissue_trainer_core PROPERTIES POSITION_INDEPENDENT_CODE O
 # compilation from 575 to 325 s of one core (docs/building.md). Helpers in unnamed namespaces
 # must therefore have names distinct across the core's files. TT_CORE_UNITY=OFF compiles file
 # by file.
-# The law registrations (20-30 s each) compile one by one, so that an edit of any core file
+# The law registrations (12-17 s each) compile one by one, so that an edit of any core file
 # recompiles at most about 30 s: batched together they took 58 s.
 option(TT_CORE_UNITY "Compile the core in unity batches" ON)
 if(TT_CORE_UNITY)
