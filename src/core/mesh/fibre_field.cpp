@@ -79,17 +79,9 @@ Eigen::Matrix3d TransmuralFibres::frameAt(const Eigen::Vector3d& p) const {
 
 namespace {
 
-double shortRadius(const EllipsoidShape& s, double t) {
-  return s.endoShort + t * (s.epiShort - s.endoShort);
-}
-
-double longRadius(const EllipsoidShape& s, double t) {
-  return s.endoLong + t * (s.epiLong - s.endoLong);
-}
-
 // (x^2 + y^2) / r_s(t)^2 + z^2 / r_l(t)^2 - 1: decreasing in t, since both radii grow with t.
 double spheroidLevel(const EllipsoidShape& s, const Eigen::Vector3d& p, double t) {
-  const double rs = shortRadius(s, t), rl = longRadius(s, t);
+  const double rs = s.shortRadiusAt(t), rl = s.longRadiusAt(t);
   return (p.x() * p.x() + p.y() * p.y()) / (rs * rs) + p.z() * p.z() / (rl * rl) - 1.0;
 }
 
@@ -107,7 +99,7 @@ double EllipsoidFibres::transmuralAt(const Eigen::Vector3d& p) const {
 }
 
 Eigen::Vector3d EllipsoidFibres::normalAt(const Eigen::Vector3d& p, double t) const {
-  const double rs = shortRadius(shape, t), rl = longRadius(shape, t);
+  const double rs = shape.shortRadiusAt(t), rl = shape.longRadiusAt(t);
   return Eigen::Vector3d(p.x() / (rs * rs), p.y() / (rs * rs), p.z() / (rl * rl)).normalized();
 }
 

@@ -201,8 +201,7 @@ int ellipsoidNode(const EllipsoidShape& shape, int k, int i, int j) {
 namespace {
 
 Eigen::Vector3d ellipsoidPoint(const EllipsoidShape& shape, double t, double s, double v) {
-  const double rs = shape.endoShort + t * (shape.epiShort - shape.endoShort);
-  const double rl = shape.endoLong + t * (shape.epiLong - shape.endoLong);
+  const double rs = shape.shortRadiusAt(t), rl = shape.longRadiusAt(t);
   const double uBase = -std::acos(shape.baseZ / rl);
   const double u = -kPi + s * (uBase + kPi);
   return Eigen::Vector3d(rs * std::sin(u) * std::cos(v), rs * std::sin(u) * std::sin(v),

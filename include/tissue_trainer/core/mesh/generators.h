@@ -74,6 +74,10 @@ struct EllipsoidShape {
   int transmural = 2;        // cells through the wall
   int meridional = 8;        // cells from apex to base
   int circumferential = 16;  // cells around
+
+  // The radii of the spheroid of transmural coordinate t (linear from endocardium to epicardium).
+  double shortRadiusAt(double t) const { return endoShort + t * (epiShort - endoShort); }
+  double longRadiusAt(double t) const { return endoLong + t * (epiLong - endoLong); }
 };
 
 Mesh truncatedEllipsoid(const EllipsoidShape& shape, TetSplit split = TetSplit::kNone);
