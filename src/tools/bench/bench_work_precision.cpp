@@ -317,8 +317,15 @@ RunResult meshConvergenceRun(const MeshRun& run) {
   Eigen::VectorXd x = s->mesh.rest.reshaped();
   const double cpu0 = bench::cpuSeconds(), wall0 = bench::wallSeconds();
   if (run.integrator == "static_newton") {
-    r.newton = r.linear = staticEquilibrium(*s, x, 1e-14);
+    const int iterations = staticEquilibrium(*s, x, 1e-14);
     r.steps = 1;
+    if (iterations == kNoEquilibrium) {
+      r.stable = false;
+      r.errors.note = "static_newton: no solution from rest (a singular factorisation, or no "
+                      "convergence in 50 Newton iterations)";
+    } else {
+      r.newton = r.linear = iterations;
+    }
   } else {
     QuasistaticIntegrator quasistatic(quasistaticParams(1e-8, true));
     const StepReport step = quasistatic.advance(*s, 1.0);

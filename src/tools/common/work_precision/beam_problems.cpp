@@ -44,10 +44,14 @@ class CantileverStatic : public Problem {
     for (const std::string& model : models) {
       auto s = build(model);
       Eigen::VectorXd x = s->mesh.rest.reshaped();
-      staticEquilibrium(*s, x, 1e-14);
-      meshDeflection_[model] = tipDeflection(*s, x);
+      const bool solved = staticEquilibrium(*s, x, 1e-14) != kNoEquilibrium;
+      // Without a static solution the model's runs get no discrete error (NaN), not one
+      // against Newton's last iterate.
+      meshDeflection_[model] = solved ? tipDeflection(*s, x) : std::nan("");
       facts.push_back({"tip_deflection_mesh_" + model, meshDeflection_[model], "m",
-                       "static solution of the mesh (Newton, sparse Cholesky)"});
+                       solved ? "static solution of the mesh (Newton, sparse Cholesky)"
+                              : "none: Newton from rest found no solution (a singular "
+                                "factorisation, or no convergence in 50 iterations)"});
     }
   }
   Errors evaluate(const std::string& model, const Trajectory& run) const override {

@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <stdexcept>
+#include <string>
 
 #include "common/bench_support.h"
 #include "common/work_precision/problem.h"
@@ -103,7 +105,11 @@ class MuscleContraction : public Problem {
     int iterations = 0;
     for (int k = 1; k <= 10; ++k) {
       muscle->setActivation(0, kActivation * k / 10.0);
-      iterations += staticEquilibrium(*s, x, 1e-14);
+      const int taken = staticEquilibrium(*s, x, 1e-14);
+      if (taken == kNoEquilibrium)
+        throw std::runtime_error("muscle_contraction: no reference equilibrium for " + model +
+                                 " at activation step " + std::to_string(k) + " of 10");
+      iterations += taken;
     }
     return iterations;
   }

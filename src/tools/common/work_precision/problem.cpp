@@ -82,11 +82,13 @@ int staticEquilibrium(const System& s, Eigen::VectorXd& x, double tolerance) {
     s.computeForce(x, v, f);
     s.zeroConstrained(f);
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(bench::negativeStiffness(s, x));
+    if (solver.info() != Eigen::Success) return kNoEquilibrium;
     const Eigen::VectorXd dx = solver.solve(f);
+    if (!dx.allFinite()) return kNoEquilibrium;
     x += dx;
     if (dx.lpNorm<Eigen::Infinity>() < tolerance) return it;
   }
-  return 50;
+  return kNoEquilibrium;
 }
 
 double relative(double value, double exact) { return std::abs(value - exact) / std::abs(exact); }

@@ -107,7 +107,11 @@ Eigen::Vector3d meanOf(const Eigen::VectorXd& x, const Eigen::Matrix3Xd& rest,
                        const std::vector<int>& nodes);
 
 // Static equilibrium by Newton's method with a sparse Cholesky solve of -K (the bench's own
-// reference solver, not an integrator). Returns the Newton iterations; x holds the result.
+// reference solver, not an integrator). Returns the Newton iterations, or kNoEquilibrium when a
+// factorisation fails, a step is not finite or none falls below tolerance in 50 iterations: then
+// x is no solution (a tangent singular at rest, as for springs without linear stiffness along
+// an axis).
+constexpr int kNoEquilibrium = -1;
 int staticEquilibrium(const System& s, Eigen::VectorXd& x, double tolerance);
 
 // |value - exact| / |exact|.
