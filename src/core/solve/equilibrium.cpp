@@ -383,6 +383,11 @@ EquilibriumReport EquilibriumSolver::solve(const System& system, Eigen::VectorXd
       onDerivative_ = true;
     }
   }
+  // A NaN residual is not above the tolerance either: it ends the loop, but is no equilibrium.
+  if (!std::isfinite(residual))
+    return stop(EquilibriumStop::kNonFiniteForce,
+                "equilibrium: non-finite force after Newton iteration " +
+                    std::to_string(report.newtonIterations));
   return report;
 }
 

@@ -10,6 +10,7 @@
 
 #include "../model_test_util.h"
 #include "../scene/scene_test_util.h"
+#include "oscillators.h"
 #include "tissue_trainer/core/integrate/quasistatic.h"
 #include "tissue_trainer/core/material/teran_muscle.h"
 #include "tissue_trainer/core/mesh/generators.h"
@@ -224,6 +225,44 @@ run: {frame_time: 0.01, duration: 3}
 )";
 
 // The quasistatic frame lands where a damped backward-Euler run comes to rest.
+// A force that is NaN at its own equilibrium (as a law at a pole would be), reached by a Newton
+// step at the round-off of the positions: the solve must end as non-finite, not as converged
+// (a NaN residual is not above any tolerance).
+class NanAtRest : public oscillators::DofPotential {
+ public:
+  using DofPotential::DofPotential;
+  double addForce(const Eigen::VectorXd& x, const Eigen::VectorXd& v,
+                  Eigen::VectorXd& f) const override {
+    const double energy = DofPotential::addForce(x, v, f);
+    if (atRest(x)) f.setConstant(std::nan(""));
+    return atRest(x) ? std::nan("") : energy;
+  }
+  double energy(const Eigen::VectorXd& x) const override {
+    return atRest(x) ? std::nan("") : DofPotential::energy(x);
+  }
+  void setRest(const Eigen::VectorXd& rest) { rest_ = rest; }
+
+ private:
+  bool atRest(const Eigen::VectorXd& x) const { return (x - rest_).cwiseAbs().maxCoeff() < 5e-16; }
+  Eigen::VectorXd rest_;
+};
+
+TEST(Equilibrium, ANonFiniteForceAtTheEndIsNoEquilibrium) {
+  System s(oscillators::unitTet(), {Material::isotropic(1e3, 0.3, 1000.0)});
+  const Eigen::VectorXd rest = oscillators::restVector(s);
+  auto model = std::make_unique<NanAtRest>(Eigen::VectorXd::Constant(rest.size(), 1e9), rest);
+  model->setRest(rest);
+  s.models.push_back(std::move(model));
+  Eigen::VectorXd x = rest.array() + 2e-15;  // a residual of 2e-6 N, a step at the round-off
+  EquilibriumParams p;
+  p.absoluteTolerance = 1e-9;
+  p.relativeTolerance = 0.0;
+  EquilibriumSolver solver(p);
+  const EquilibriumReport r = solver.solve(s, x);
+  EXPECT_FALSE(r.converged()) << "residual " << r.residual;
+  EXPECT_EQ(r.stop, EquilibriumStop::kNonFiniteForce) << r.reason;
+}
+
 TEST(QuasistaticIntegrator, HangingBoxMatchesBackwardEulerAtRest) {
   Scene quasi = loadScene(testutil::writeScene("hanging_qs.yaml", kHangingScene));
   const StepReport r = quasi.integrator->advance(quasi.system, quasi.frameTime);
