@@ -224,23 +224,22 @@ loads:
 run: {frame_time: 0.01, duration: 3}
 )";
 
-// The quasistatic frame lands where a damped backward-Euler run comes to rest.
 // A force that is NaN at its own equilibrium (as a law at a pole would be), reached by a Newton
 // step at the round-off of the positions: the solve must end as non-finite, not as converged
 // (a NaN residual is not above any tolerance).
 class NanAtRest : public oscillators::DofPotential {
  public:
-  using DofPotential::DofPotential;
+  NanAtRest(Eigen::VectorXd k, const Eigen::VectorXd& rest)
+      : DofPotential(std::move(k), rest), rest_(rest) {}
   double addForce(const Eigen::VectorXd& x, const Eigen::VectorXd& v,
                   Eigen::VectorXd& f) const override {
-    const double energy = DofPotential::addForce(x, v, f);
-    if (atRest(x)) f.setConstant(std::nan(""));
-    return atRest(x) ? std::nan("") : energy;
+    if (!atRest(x)) return DofPotential::addForce(x, v, f);
+    f.setConstant(std::nan(""));
+    return std::nan("");
   }
   double energy(const Eigen::VectorXd& x) const override {
     return atRest(x) ? std::nan("") : DofPotential::energy(x);
   }
-  void setRest(const Eigen::VectorXd& rest) { rest_ = rest; }
 
  private:
   bool atRest(const Eigen::VectorXd& x) const { return (x - rest_).cwiseAbs().maxCoeff() < 5e-16; }
@@ -250,9 +249,8 @@ class NanAtRest : public oscillators::DofPotential {
 TEST(Equilibrium, ANonFiniteForceAtTheEndIsNoEquilibrium) {
   System s(oscillators::unitTet(), {Material::isotropic(1e3, 0.3, 1000.0)});
   const Eigen::VectorXd rest = oscillators::restVector(s);
-  auto model = std::make_unique<NanAtRest>(Eigen::VectorXd::Constant(rest.size(), 1e9), rest);
-  model->setRest(rest);
-  s.models.push_back(std::move(model));
+  s.models.push_back(
+      std::make_unique<NanAtRest>(Eigen::VectorXd::Constant(rest.size(), 1e9), rest));
   Eigen::VectorXd x = rest.array() + 2e-15;  // a residual of 2e-6 N, a step at the round-off
   EquilibriumParams p;
   p.absoluteTolerance = 1e-9;
@@ -263,6 +261,7 @@ TEST(Equilibrium, ANonFiniteForceAtTheEndIsNoEquilibrium) {
   EXPECT_EQ(r.stop, EquilibriumStop::kNonFiniteForce) << r.reason;
 }
 
+// The quasistatic frame lands where a damped backward-Euler run comes to rest.
 TEST(QuasistaticIntegrator, HangingBoxMatchesBackwardEulerAtRest) {
   Scene quasi = loadScene(testutil::writeScene("hanging_qs.yaml", kHangingScene));
   const StepReport r = quasi.integrator->advance(quasi.system, quasi.frameTime);
